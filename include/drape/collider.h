@@ -1,0 +1,62 @@
+// Colliders: signed distances and the contact response shared by every solver.
+#pragma once
+
+#include <algorithm>
+#include <vector>
+
+#include "drape/cloth.h"
+#include "drape/scene.h"
+
+namespace drape {
+
+/// A collider ready for queries (plane normal normalised).
+struct Collider {
+  ColliderType type = ColliderType::sphere;
+  Vec3 center = Vec3::Zero();  ///< sphere centre or a point on the plane
+  double radius = 0.0;
+  Vec3 normal = Vec3::UnitY();
+  double friction = 0.0;
+  double thickness = 0.0;
+};
+
+Collider make_collider(const ColliderDef& def);
+std::vector<Collider> make_colliders(const std::vector<ColliderDef>& defs);
+
+/// Signed distance from x to the surface (negative inside) and the outward normal there.
+inline double signed_distance(const Collider& c, const Vec3& x, Vec3& normal) {
+  if (c.type == ColliderType::plane) {
+    normal = c.normal;
+    return c.normal.dot(x - c.center);
+  }
+  const Vec3 d = x - c.center;
+  const double len = d.norm();
+  normal = len > 0.0 ? Vec3(d / len) : Vec3::UnitY();
+  return len - c.radius;
+}
+
+/// If x lies closer to the surface than the thickness, moves it out along the normal to the
+/// thickness, removes the inward normal velocity, and applies Coulomb friction to the tangential
+/// velocity: its change is at most friction × the normal velocity change. Returns true on
+/// contact.
+inline bool resolve_contact(const Collider& c, Vec3& x, Vec3& v) {
+  Vec3 n;
+  const double gap = signed_distance(c, x, n) - c.thickness;
+  if (gap >= 0.0) return false;
+  x -= gap * n;
+  const double vn = v.dot(n);
+  if (vn < 0.0) {
+    const Vec3 vt = v - vn * n;
+    const double vt_len = vt.norm();
+    const double keep = vt_len > 0.0 ? std::max(0.0, 1.0 - c.friction * (-vn) / vt_len) : 0.0;
+    v = keep * vt;
+  }
+  return true;
+}
+
+/// Resolves contacts for every free particle (1/m > 0), each collider in turn.
+void resolve_contacts(const std::vector<Collider>& colliders, ClothState& state);
+
+/// Deepest distance of a particle inside any collider's surface (thickness not counted), m.
+double max_penetration(const std::vector<Collider>& colliders, const std::vector<Vec3>& x);
+
+}  // namespace drape

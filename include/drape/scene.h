@@ -1,0 +1,114 @@
+// Plain definitions of a scene: what a scene file holds, with documented defaults and units.
+// A definition is validated once, by check(), before anything is built from it.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "drape/math.h"
+
+namespace drape {
+
+/// Stiffness and damping of one kind of spring.
+struct SpringParams {
+  double stiffness = 0.0;  ///< N/m, >= 0
+  double damping = 0.0;    ///< N·s/m along the spring, >= 0
+};
+
+enum class Orientation : uint8_t {
+  vertical,   ///< hangs in the x–y plane; columns toward +x, rows toward −y
+  horizontal  ///< lies in the x–z plane at height origin.y; columns toward +x, rows toward +z
+};
+
+/// A pinned particle, by grid index. Row 0 is the top row; a negative index counts from the
+/// end (−1 is the last column or row), so {-1, 0} is the top-right corner at any resolution.
+struct Pin {
+  int col = 0;
+  int row = 0;
+};
+
+/// A rectangular grid cloth.
+struct ClothDef {
+  double width = 2.0;                ///< m, along the columns (x)
+  double height = 2.0;               ///< m, along the rows
+  int cols = 32;                     ///< particles per row, >= 2
+  int rows = 32;                     ///< particles per column, >= 2
+  Vec3 origin{-1.0, 2.0, 0.0};       ///< m, top-left corner (see Orientation)
+  Orientation orientation = Orientation::vertical;
+  double mass = 1.0;                 ///< kg, total; each particle gets mass / count
+  std::vector<Pin> pins{{0, 0}, {-1, 0}};  ///< pinned particles: the top corners
+  SpringParams structural{2000.0, 0.5};    ///< right and lower neighbours
+  SpringParams shear{500.0, 0.5};          ///< both diagonals of each quad
+  SpringParams bending{50.0, 0.1};         ///< two steps right and two steps down
+  double perturbation = 1e-4;  ///< m, deterministic out-of-plane jitter of the start; 0 = flat
+};
+
+enum class WindModel : uint8_t {
+  seed,  ///< dv = c·d·|cos θ|·(dA/dm)·dt per particle, d = direction·strength (the seed's)
+  aero   ///< per-triangle drag ½ρ·C·A·|u·n|(u·n)·n on the relative velocity u
+};
+
+struct WindDef {
+  WindModel model = WindModel::seed;
+  Vec3 direction{0.0, 0.0, 1.0};  ///< normalised on use; must not be zero when strength > 0
+  double strength = 0.0;          ///< seed: wind vector length; aero: wind speed in m/s
+  double coefficient = 1.0;       ///< seed: c_w; aero: drag coefficient C, >= 0
+  double density = 1.225;         ///< kg/m³, air density (aero only)
+  double gust = 0.0;              ///< relative amplitude of the strength's variation, in [0, 1]
+  double gust_frequency = 0.5;    ///< Hz, of that variation
+};
+
+struct ForcesDef {
+  Vec3 gravity{0.0, -9.81, 0.0};  ///< m/s²
+  double air_drag = 0.01;         ///< ρA of one particle, kg/m: dv = −(ρA/m)|v|v dt
+  WindDef wind;
+};
+
+enum class ColliderType : uint8_t { sphere, plane };
+
+struct ColliderDef {
+  ColliderType type = ColliderType::sphere;
+  Vec3 center{0.0, 0.0, 0.0};  ///< m, sphere centre, or a point on the plane
+  double radius = 0.5;         ///< m, sphere only, > 0
+  Vec3 normal{0.0, 1.0, 0.0};  ///< plane only: the side the cloth stays on; normalised on use
+  double friction = 0.3;       ///< Coulomb coefficient, >= 0
+  double thickness = 0.01;     ///< m, contact offset kept between cloth and surface, >= 0
+};
+
+enum class Method : uint8_t {
+  symplectic  ///< semi-implicit Euler with automatic stable substeps (the seed's update)
+};
+
+struct SolverDef {
+  Method method = Method::symplectic;
+  double dt = 1.0 / 60.0;  ///< s, one frame, in [1e-6, 0.1]
+  int substeps = 0;        ///< per frame; 0 = automatic (the stable minimum)
+  double safety = 0.9;     ///< fraction of the stability bound used by automatic substeps
+  int max_substeps = 10000;  ///< automatic substeps above this are refused
+};
+
+struct SceneDef {
+  std::string name = "untitled";
+  ClothDef cloth;
+  ForcesDef forces;
+  std::vector<ColliderDef> colliders;
+  SolverDef solver;
+  double duration = 5.0;  ///< s, simulated by `drape run`
+};
+
+/// Names used in scene files and on the command line.
+const char* to_string(Method m);
+const char* to_string(WindModel m);
+const char* to_string(ColliderType t);
+const char* to_string(Orientation o);
+
+/// Throws InputError naming the first field that is out of range (a JSON-style path such as
+/// "cloth.mass"). Types and key names are the loader's business; ranges are checked here so a
+/// definition built in C++ is held to the same rules as one read from a file.
+void check(const SceneDef& def);
+
+/// Frames in a run: round(duration / dt).
+int64_t frame_count(const SceneDef& def);
+
+}  // namespace drape

@@ -1,0 +1,96 @@
+// The simulation: one cloth, its forces and colliders, advanced a frame at a time.
+//
+//   drape::SceneDef def;                 // documented defaults: the `hang` scene
+//   def.cloth.cols = def.cloth.rows = 64;
+//   drape::Simulation sim(def);          // throws drape::InputError on bad input
+//   while (sim.time() < 5.0 && sim.step()) draw(sim.state().x, sim.model().triangles);
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+
+#include "drape/cloth.h"
+#include "drape/collider.h"
+#include "drape/scene.h"
+
+namespace drape {
+
+class Solver;
+
+/// Figures that describe the state; cheap enough to take once per frame.
+struct Diagnostics {
+  double kinetic_energy = 0.0;   ///< J
+  double max_strain = 0.0;       ///< max |length/rest − 1| over structural springs
+  double mean_strain = 0.0;      ///< mean of the same
+  double max_penetration = 0.0;  ///< m, deepest particle inside a collider's surface (0 if none)
+  double pinned_drift = 0.0;     ///< m, largest distance of a pinned particle from its anchor
+  bool finite = true;            ///< every position and velocity is finite
+};
+
+class Simulation {
+ public:
+  /// Builds the cloth and the solver. Throws InputError if `def` fails check(), or if the
+  /// solver cannot run it (e.g. more automatic substeps than solver.max_substeps).
+  explicit Simulation(const SceneDef& def);
+  ~Simulation();
+  Simulation(Simulation&&) noexcept;
+  Simulation& operator=(Simulation&&) noexcept;
+
+  /// Advances one frame of solver.dt. Returns false once the state has diverged (non-finite,
+  /// or kinetic energy beyond what gravity, wind and the user's hand could have supplied);
+  /// the state is then left as it was at detection and later calls do nothing. Never throws.
+  bool step();
+
+  bool diverged() const { return !divergence_.empty(); }
+  const std::string& divergence() const { return divergence_; }  ///< why, with a hint
+  int64_t diverged_frame() const { return diverged_frame_; }      ///< -1 unless diverged
+
+  int64_t frame() const { return frame_; }
+  double time() const { return static_cast<double>(frame_) * def_.solver.dt; }
+  int substeps_per_frame() const;
+  const SceneDef& def() const { return def_; }
+  const ClothModel& model() const { return model_; }
+  const ClothState& state() const { return state_; }
+  const std::vector<Collider>& colliders() const { return colliders_; }
+  Diagnostics diagnostics() const;
+
+  /// Applies a changed definition. Forces, colliders, spring parameters, mass and solver
+  /// settings take effect at once; returns false (and changes nothing) when the change needs a
+  /// new cloth (resolution, size, origin, orientation, pins, perturbation): build a
+  /// new Simulation then. Throws InputError if `def` fails check().
+  bool reconfigure(const SceneDef& def);
+
+  /// The seed's mouse drag: grab() holds a particle still, move_grab() places it (velocity zero),
+  /// release() lets it go with the given velocity (zero: the seed's; the hand's: a flick).
+  void grab(int32_t particle);
+  void move_grab(const Vec3& target);
+  void release(const Vec3& velocity = Vec3::Zero());
+  int32_t grabbed() const { return grabbed_; }  ///< -1 when nothing is held
+
+  /// Pins a particle where it is now, or frees it.
+  void set_pinned(int32_t particle, bool pinned);
+
+ private:
+  void prepare_solver();
+  void rebase_energy();
+  double mechanical_energy() const;
+
+  SceneDef def_;
+  ClothModel model_;
+  ClothState state_;
+  std::vector<Collider> colliders_;
+  std::unique_ptr<Solver> solver_;
+  std::vector<double> scratch_;
+  int64_t frame_ = 0;
+  int32_t grabbed_ = -1;
+  double grabbed_inv_mass_ = 0.0;
+  // Divergence watch: mechanical energy may not grow past what was there at the last rebase
+  // plus the work external forces did since.
+  double energy_ref_ = 0.0;
+  double external_work_ = 0.0;
+  std::string divergence_;
+  int64_t diverged_frame_ = -1;
+};
+
+}  // namespace drape

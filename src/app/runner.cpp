@@ -1,0 +1,95 @@
+#include "app/runner.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+
+#include "app/terminal.h"
+
+namespace drape::app {
+
+const char* to_string(RunStatus s) {
+  switch (s) {
+    case RunStatus::ok: return "ok";
+    case RunStatus::diverged: return "diverged";
+    case RunStatus::interrupted: return "interrupted";
+  }
+  return "?";
+}
+
+double RunResult::median_ms() const {
+  if (frame_ms.empty()) return 0.0;
+  std::vector<double> sorted = frame_ms;
+  const size_t mid = sorted.size() / 2;
+  std::nth_element(sorted.begin(), sorted.begin() + mid, sorted.end());
+  if (sorted.size() % 2 == 1) return sorted[mid];
+  const double upper = sorted[mid];
+  return 0.5 * (upper + *std::max_element(sorted.begin(), sorted.begin() + mid));
+}
+
+RunResult run_frames(Simulation& sim, int64_t frames, const RunHooks& hooks) {
+  using clock = std::chrono::steady_clock;
+  RunResult r;
+  r.frame_ms.reserve(static_cast<size_t>(std::min<int64_t>(frames, 1 << 20)));
+  Progress bar(hooks.progress_label, frames, !hooks.progress_label.empty());
+  const auto start = clock::now();
+  if (hooks.after_frame) hooks.after_frame(sim);
+  for (int64_t f = 0; f < frames; ++f) {
+    const auto t0 = clock::now();
+    const bool ok = sim.step();
+    r.frame_ms.push_back(std::chrono::duration<double, std::milli>(clock::now() - t0).count());
+    ++r.frames;
+    if (!ok) {
+      r.status = RunStatus::diverged;
+      break;
+    }
+    if (hooks.after_frame) hooks.after_frame(sim);
+    if (int s = interrupt_signal()) {
+      r.status = RunStatus::interrupted;
+      r.signal = s;
+      break;
+    }
+    if (!hooks.progress_label.empty()) {
+      char detail[96];
+      const double elapsed = std::chrono::duration<double>(clock::now() - start).count();
+      std::snprintf(detail, sizeof detail, "%lld/%lld frames  %.2f s sim  %.1f frames/s",
+                    static_cast<long long>(f + 1), static_cast<long long>(frames), sim.time(),
+                    elapsed > 0 ? (f + 1) / elapsed : 0.0);
+      bar.update(f + 1, detail);
+    }
+  }
+  bar.finish();
+  r.wall_seconds = std::chrono::duration<double>(clock::now() - start).count();
+  return r;
+}
+
+nlohmann::json stats_json(const Simulation& sim, const RunResult& run) {
+  const Diagnostics d = sim.diagnostics();
+  nlohmann::json j;
+  j["scene"] = sim.def().name;
+  j["status"] = to_string(run.status);
+  j["diverged_frame"] = sim.diverged() ? nlohmann::json(sim.diverged_frame()) : nullptr;
+  j["message"] = sim.diverged() ? nlohmann::json(sim.divergence()) : nullptr;
+  j["method"] = to_string(sim.def().solver.method);
+  j["particles"] = sim.model().size();
+  j["springs"] = sim.model().springs.size();
+  j["frames"] = run.frames;
+  j["substeps_per_frame"] = sim.substeps_per_frame();
+  j["dt"] = sim.def().solver.dt;
+  j["sim_seconds"] = sim.time();
+  j["wall_seconds"] = run.wall_seconds;
+  j["setup_ms"] = run.setup_ms;
+  j["ms_per_frame"] = run.median_ms();
+  // JSON has no NaN or infinity: non-finite figures of a diverged state are written as null.
+  auto figure = [](double x) { return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(); };
+  j["kinetic_energy"] = figure(d.kinetic_energy);
+  j["max_strain"] = figure(d.max_strain);
+  j["mean_strain"] = figure(d.mean_strain);
+  j["max_penetration"] = figure(d.max_penetration);
+  j["pinned_drift"] = figure(d.pinned_drift);
+  j["finite"] = d.finite;
+  return j;
+}
+
+}  // namespace drape::app

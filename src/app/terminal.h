@@ -1,0 +1,36 @@
+// Terminal output for long runs: a progress bar on a terminal, nothing when piped; and the
+// SIGINT/SIGTERM flag that lets a run finish its frame, write what it has and exit cleanly.
+#pragma once
+
+#include <chrono>
+#include <cstdint>
+#include <string>
+
+namespace drape::app {
+
+class Progress {
+ public:
+  /// Draws on stderr only when it is a terminal and `enabled`.
+  Progress(std::string label, int64_t total, bool enabled);
+  ~Progress();
+  /// `done` of `total` finished; `detail` follows the bar. Redraws at most ten times a second.
+  void update(int64_t done, const std::string& detail);
+  /// Clears the bar's line.
+  void finish();
+
+ private:
+  std::string label_;
+  int64_t total_;
+  bool enabled_;
+  bool drawn_ = false;
+  std::chrono::steady_clock::time_point last_{};
+};
+
+/// Installs handlers for SIGINT and SIGTERM that only record the signal.
+void install_interrupt_handlers();
+/// The signal received since install_interrupt_handlers(), or 0.
+int interrupt_signal();
+/// The conventional exit code for a run stopped by `signal`: 128 + signal (130, 143).
+inline int interrupt_exit_code(int signal) { return 128 + signal; }
+
+}  // namespace drape::app

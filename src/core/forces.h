@@ -1,0 +1,79 @@
+// Forces on the cloth: springs, gravity, wind, air drag. The per-spring math is a set of small
+// pure functions (tested on their own against finite differences); the loops over the cloth
+// are below them.
+#pragma once
+
+#include <vector>
+
+#include "drape/cloth.h"
+#include "drape/scene.h"
+
+namespace drape::forces {
+
+/// Elastic force on particle i of a spring (i, j): k(|d| − L)·d̂, d = x_j − x_i.
+inline Vec3 spring_elastic(const Vec3& xi, const Vec3& xj, double k, double rest) {
+  const Vec3 d = xj - xi;
+  const double len = d.norm();
+  if (len == 0.0) return Vec3::Zero();  // direction undefined; no force rather than NaN
+  return (k * (len - rest) / len) * d;
+}
+
+/// Damping force on particle i of a spring: c((v_j − v_i)·d̂)·d̂.
+inline Vec3 spring_damping(const Vec3& xi, const Vec3& xj, const Vec3& vi, const Vec3& vj,
+                           double c) {
+  const Vec3 d = xj - xi;
+  const double len2 = d.squaredNorm();
+  if (len2 == 0.0) return Vec3::Zero();
+  return (c * (vj - vi).dot(d) / len2) * d;
+}
+
+/// Elastic energy ½k(|d| − L)².
+inline double spring_energy(const Vec3& xi, const Vec3& xj, double k, double rest) {
+  const double stretch = (xj - xi).norm() - rest;
+  return 0.5 * k * stretch * stretch;
+}
+
+/// ∂f_i/∂x_j of the elastic force (= −∂f_i/∂x_i):
+/// k[d̂d̂ᵀ + (1 − L/|d|)(I − d̂d̂ᵀ)]. With `clamp`, the transverse term of a compressed spring
+/// (negative) is dropped so the matrix stays positive semi-definite (Baraff & Witkin 1998;
+/// Choi & Ko 2002).
+inline Mat3 spring_stiffness(const Vec3& xi, const Vec3& xj, double k, double rest, bool clamp) {
+  const Vec3 d = xj - xi;
+  const double len = d.norm();
+  if (len == 0.0) return Mat3::Zero();
+  const Vec3 u = d / len;
+  const Mat3 uu = u * u.transpose();
+  double transverse = 1.0 - rest / len;
+  if (clamp && transverse < 0.0) transverse = 0.0;
+  return k * (uu + transverse * (Mat3::Identity() - uu));
+}
+
+/// Adds every spring's elastic and damping forces to f (N). Colour by colour, in parallel.
+void add_springs(const ClothModel& model, const std::vector<Vec3>& x, const std::vector<Vec3>& v,
+                 std::vector<Vec3>& f);
+
+/// Wind strength at time t (s), with gusts: strength·(1 + gust·g(t)), g a smooth function in
+/// [−1, 1] made of two incommensurate sines so the pattern does not repeat visibly.
+double wind_strength(const WindDef& wind, double t);
+
+/// Adds the wind force (N) at time t. Reads state.normal and state.area (update_normals first)
+/// for the seed model, state.x and state.v for the aero model.
+void add_wind(const ClothModel& model, const ClothState& state, const WindDef& wind, double t,
+              std::vector<Vec3>& f);
+
+/// Σ_i |f_wind,i · v_i| (W): an upper bound on the power the wind delivers now. `scratch` is
+/// workspace (resized to the particle count).
+double wind_power(const ClothModel& model, const ClothState& state, const WindDef& wind,
+                  double t, std::vector<double>& scratch);
+
+/// The seed's quadratic drag dv = −(ρA/m)|v|v dt, taken semi-implicitly:
+/// v ← v / (1 + dt·(ρA/m)·|v|). Same terminal speed, stable for any dt. No-op where 1/m = 0.
+void apply_drag(double air_drag, const std::vector<double>& inv_mass, double dt,
+                std::vector<Vec3>& v);
+
+/// Energies (J): ½Σ m v², −Σ m g·x, Σ ½k(|d| − L)².
+double kinetic_energy(const ClothModel& model, const std::vector<Vec3>& v);
+double gravity_energy(const ClothModel& model, const std::vector<Vec3>& x, const Vec3& g);
+double spring_energy(const ClothModel& model, const std::vector<Vec3>& x);
+
+}  // namespace drape::forces

@@ -1,0 +1,139 @@
+#include <cmath>
+#include <cstdio>
+#include <string>
+
+#include "drape/error.h"
+#include "drape/scene.h"
+
+namespace drape {
+
+const char* to_string(Method m) {
+  switch (m) {
+    case Method::symplectic: return "symplectic";
+  }
+  return "?";
+}
+
+const char* to_string(WindModel m) { return m == WindModel::seed ? "seed" : "aero"; }
+const char* to_string(ColliderType t) { return t == ColliderType::sphere ? "sphere" : "plane"; }
+const char* to_string(Orientation o) {
+  return o == Orientation::vertical ? "vertical" : "horizontal";
+}
+
+namespace {
+
+// Limits that keep a run on one machine: 4M particles is about 2 GB of state and springs.
+constexpr int64_t kMaxParticles = 4'000'000;
+
+std::string num(double x) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.6g", x);
+  return buf;
+}
+
+void require(bool ok, const std::string& path, const std::string& problem) {
+  if (!ok) throw InputError(path, problem);
+}
+
+void finite(double x, const std::string& path) {
+  require(std::isfinite(x), path, "must be a finite number");
+}
+
+void finite(const Vec3& x, const std::string& path) {
+  require(x.allFinite(), path, "must hold finite numbers");
+}
+
+// lo <= x <= hi (with lo_open: lo < x).
+void range(double x, double lo, double hi, const std::string& path, bool lo_open = false) {
+  finite(x, path);
+  const bool ok = (lo_open ? x > lo : x >= lo) && x <= hi;
+  if (!ok) {
+    std::string problem = "is " + num(x) + ", must be in ";
+    problem += lo_open ? '(' : '[';
+    problem += num(lo) + ", " + num(hi) + "]";
+    throw InputError(path, problem);
+  }
+}
+
+void nonnegative(double x, const std::string& path) {
+  finite(x, path);
+  require(x >= 0.0, path, "is " + num(x) + ", must not be negative");
+}
+
+void check_springs(const SpringParams& p, const std::string& path) {
+  nonnegative(p.stiffness, path + ".stiffness");
+  nonnegative(p.damping, path + ".damping");
+}
+
+}  // namespace
+
+void check(const SceneDef& def) {
+  const ClothDef& c = def.cloth;
+  range(c.width, 0.0, 1e4, "cloth.size[0]", true);
+  range(c.height, 0.0, 1e4, "cloth.size[1]", true);
+  require(c.cols >= 2 && c.rows >= 2, "cloth.resolution",
+          "is " + std::to_string(c.cols) + "x" + std::to_string(c.rows) +
+              ", must be at least 2x2 particles");
+  const int64_t particles = int64_t{c.cols} * int64_t{c.rows};
+  require(particles <= kMaxParticles, "cloth.resolution",
+          std::to_string(c.cols) + "x" + std::to_string(c.rows) + " is " +
+              std::to_string(particles) + " particles, more than the limit of " +
+              std::to_string(kMaxParticles));
+  finite(c.origin, "cloth.origin");
+  range(c.mass, 0.0, 1e6, "cloth.mass", true);
+  for (size_t k = 0; k < c.pins.size(); ++k) {
+    const Pin& p = c.pins[k];
+    if (p.col >= -c.cols && p.col < c.cols && p.row >= -c.rows && p.row < c.rows) continue;
+    char problem[200];
+    std::snprintf(problem, sizeof problem,
+                  "[%d, %d] is outside the %dx%d grid (columns 0..%d, rows 0..%d, or negative "
+                  "from the end)",
+                  p.col, p.row, c.cols, c.rows, c.cols - 1, c.rows - 1);
+    throw InputError("cloth.pins[" + std::to_string(k) + "]", problem);
+  }
+  check_springs(c.structural, "cloth.springs.structural");
+  check_springs(c.shear, "cloth.springs.shear");
+  check_springs(c.bending, "cloth.springs.bending");
+  range(c.perturbation, 0.0, 1.0, "cloth.perturbation");
+
+  const ForcesDef& f = def.forces;
+  finite(f.gravity, "forces.gravity");
+  nonnegative(f.air_drag, "forces.air_drag");
+  const WindDef& w = f.wind;
+  finite(w.direction, "forces.wind.direction");
+  nonnegative(w.strength, "forces.wind.strength");
+  require(w.strength == 0.0 || w.direction.norm() > 0.0, "forces.wind.direction",
+          "must not be zero when the wind blows");
+  nonnegative(w.coefficient, "forces.wind.coefficient");
+  nonnegative(w.density, "forces.wind.density");
+  range(w.gust, 0.0, 1.0, "forces.wind.gust");
+  nonnegative(w.gust_frequency, "forces.wind.gust_frequency");
+
+  for (size_t k = 0; k < def.colliders.size(); ++k) {
+    const ColliderDef& col = def.colliders[k];
+    const std::string path = "colliders[" + std::to_string(k) + "]";
+    finite(col.center, path + (col.type == ColliderType::sphere ? ".center" : ".point"));
+    if (col.type == ColliderType::sphere) range(col.radius, 0.0, 1e6, path + ".radius", true);
+    if (col.type == ColliderType::plane) {
+      finite(col.normal, path + ".normal");
+      require(col.normal.norm() > 0.0, path + ".normal", "must not be zero");
+    }
+    nonnegative(col.friction, path + ".friction");
+    nonnegative(col.thickness, path + ".thickness");
+  }
+
+  const SolverDef& s = def.solver;
+  range(s.dt, 1e-6, 0.1, "solver.dt");
+  require(s.substeps >= 0 && s.substeps <= 1'000'000, "solver.substeps",
+          "is " + std::to_string(s.substeps) + ", must be in [0, 1000000] (0 = automatic)");
+  range(s.safety, 0.0, 1.0, "solver.safety", true);
+  require(s.max_substeps >= 1 && s.max_substeps <= 1'000'000, "solver.max_substeps",
+          "is " + std::to_string(s.max_substeps) + ", must be in [1, 1000000]");
+  range(def.duration, 0.0, 1e7, "duration");
+}
+
+int64_t frame_count(const SceneDef& def) {
+  return static_cast<int64_t>(std::llround(def.duration / def.solver.dt));
+}
+
+}  // namespace drape

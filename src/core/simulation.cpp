@@ -1,0 +1,187 @@
+#include "drape/simulation.h"
+
+#include <cmath>
+#include <string>
+
+#include "drape/error.h"
+#include "forces.h"
+#include "solver.h"
+
+namespace drape {
+
+Simulation::Simulation(const SceneDef& def) : def_(def) {
+  check(def_);
+  model_ = build_grid(def_.cloth);
+  state_ = initial_state(def_.cloth, model_);
+  colliders_ = make_colliders(def_.colliders);
+  solver_ = make_solver(def_.solver.method);
+  scratch_.reserve(model_.size());
+  prepare_solver();
+  rebase_energy();
+}
+
+Simulation::~Simulation() = default;
+Simulation::Simulation(Simulation&&) noexcept = default;
+Simulation& Simulation::operator=(Simulation&&) noexcept = default;
+
+int Simulation::substeps_per_frame() const { return solver_->substeps(); }
+
+void Simulation::prepare_solver() {
+  World world{model_, state_, def_.forces, colliders_, time()};
+  solver_->prepare(world, def_.solver);
+}
+
+double Simulation::mechanical_energy() const {
+  return forces::kinetic_energy(model_, state_.v) +
+         forces::gravity_energy(model_, state_.x, def_.forces.gravity) +
+         forces::spring_energy(model_, state_.x);
+}
+
+void Simulation::rebase_energy() {
+  energy_ref_ = mechanical_energy();
+  external_work_ = 0.0;
+}
+
+bool Simulation::step() {
+  if (diverged()) return false;
+  World world{model_, state_, def_.forces, colliders_, time()};
+  solver_->step_frame(world, def_.solver.dt);
+  ++frame_;
+
+  // Divergence watch. Kinetic, spring and gravity energy together may only fall, except by the
+  // work the wind does (bounded by Σ|f·v| over the frame) and what the user's hand puts in
+  // (the reference is rebased while a particle is held). A blow-up grows exponentially, so a
+  // tolerance of ½·M·(1 m/s)² + M·|g|·(cloth diagonal), far above any integration error of a
+  // stable run, separates the two within a frame.
+  bool finite = true;
+  for (int32_t i = 0; i < model_.size() && finite; ++i)
+    finite = state_.x[i].allFinite() && state_.v[i].allFinite();
+  const std::string method = to_string(def_.solver.method);
+  const char* hint =
+      "; try a smaller solver.dt, more solver.substeps (0 = automatic), or lower stiffness";
+  if (!finite) {
+    divergence_ = "the state became non-finite (NaN or infinity) with the " + method +
+                  " method" + hint;
+  } else {
+    if (def_.forces.wind.strength > 0.0)
+      external_work_ += def_.solver.dt * forces::wind_power(model_, state_, def_.forces.wind,
+                                                            time(), scratch_);
+    if (grabbed_ >= 0) rebase_energy();
+    const double mass = def_.cloth.mass;
+    const double diagonal = std::hypot(def_.cloth.width, def_.cloth.height);
+    const double tolerance = 0.5 * mass + mass * def_.forces.gravity.norm() * diagonal;
+    const double energy = mechanical_energy();
+    const double excess = energy - energy_ref_ - external_work_;
+    if (excess > tolerance) {
+      char buf[200];
+      std::snprintf(buf, sizeof buf,
+                    "the energy grew by %.3g J, more than gravity, wind and the start state can "
+                    "supply (tolerance %.3g J), with the ",
+                    excess, tolerance);
+      divergence_ = buf + method + " method" + hint;
+    }
+  }
+  if (diverged()) diverged_frame_ = frame_;
+  return !diverged();
+}
+
+Diagnostics Simulation::diagnostics() const {
+  Diagnostics d;
+  d.kinetic_energy = forces::kinetic_energy(model_, state_.v);
+  int64_t structural = 0;
+  double strain_sum = 0.0;
+  for (const Spring& s : model_.springs) {
+    if (s.kind != SpringKind::structural) continue;
+    const double strain = std::abs((state_.x[s.j] - state_.x[s.i]).norm() / s.rest - 1.0);
+    d.max_strain = std::max(d.max_strain, strain);
+    strain_sum += strain;
+    ++structural;
+  }
+  d.mean_strain = structural > 0 ? strain_sum / static_cast<double>(structural) : 0.0;
+  d.max_penetration = max_penetration(colliders_, state_.x);
+  for (int32_t i = 0; i < model_.size(); ++i) {
+    if (state_.pinned[i])
+      d.pinned_drift = std::max(d.pinned_drift, (state_.x[i] - state_.anchor[i]).norm());
+    d.finite = d.finite && state_.x[i].allFinite() && state_.v[i].allFinite();
+  }
+  return d;
+}
+
+bool Simulation::reconfigure(const SceneDef& def) {
+  check(def);
+  const ClothDef &a = def_.cloth, &b = def.cloth;
+  const bool same_pins =
+      a.pins.size() == b.pins.size() &&
+      std::equal(a.pins.begin(), a.pins.end(), b.pins.begin(),
+                 [](const Pin& p, const Pin& q) { return p.col == q.col && p.row == q.row; });
+  if (a.cols != b.cols || a.rows != b.rows || a.width != b.width || a.height != b.height ||
+      a.origin != b.origin || a.orientation != b.orientation || a.perturbation != b.perturbation ||
+      !same_pins)
+    return false;
+
+  // Build the new solver first so a refused set-up leaves the simulation as it was.
+  SceneDef old = def_;
+  def_ = def;
+  for (Spring& s : model_.springs) {
+    const SpringParams& p = s.kind == SpringKind::structural ? b.structural
+                            : s.kind == SpringKind::shear    ? b.shear
+                                                             : b.bending;
+    s.stiffness = p.stiffness;
+    s.damping = p.damping;
+  }
+  const double m = b.mass / model_.size();
+  for (int32_t i = 0; i < model_.size(); ++i) {
+    model_.mass[i] = m;
+    if (state_.inv_mass[i] != 0.0) state_.inv_mass[i] = 1.0 / m;
+  }
+  if (grabbed_ >= 0) grabbed_inv_mass_ = 1.0 / m;
+  colliders_ = make_colliders(def_.colliders);
+  if (def.solver.method != old.solver.method) solver_ = make_solver(def_.solver.method);
+  try {
+    prepare_solver();
+  } catch (const InputError&) {
+    reconfigure(old);
+    throw;
+  }
+  rebase_energy();
+  return true;
+}
+
+void Simulation::grab(int32_t particle) {
+  if (particle < 0 || particle >= model_.size()) return;
+  if (grabbed_ >= 0) release();
+  grabbed_ = particle;
+  grabbed_inv_mass_ = state_.inv_mass[particle];
+  state_.inv_mass[particle] = 0.0;
+  state_.v[particle].setZero();
+}
+
+void Simulation::move_grab(const Vec3& target) {
+  if (grabbed_ < 0 || !target.allFinite()) return;
+  state_.x[grabbed_] = target;
+  state_.v[grabbed_].setZero();
+}
+
+void Simulation::release(const Vec3& velocity) {
+  if (grabbed_ < 0) return;
+  state_.inv_mass[grabbed_] = state_.pinned[grabbed_] ? 0.0 : grabbed_inv_mass_;
+  if (!state_.pinned[grabbed_] && velocity.allFinite()) state_.v[grabbed_] = velocity;
+  grabbed_ = -1;
+  rebase_energy();
+}
+
+void Simulation::set_pinned(int32_t particle, bool pinned) {
+  if (particle < 0 || particle >= model_.size()) return;
+  state_.pinned[particle] = pinned ? 1 : 0;
+  state_.anchor[particle] = state_.x[particle];
+  if (particle == grabbed_) {
+    grabbed_inv_mass_ = pinned ? 0.0 : 1.0 / model_.mass[particle];
+  } else {
+    state_.inv_mass[particle] = pinned ? 0.0 : 1.0 / model_.mass[particle];
+  }
+  state_.v[particle].setZero();
+  prepare_solver();
+  rebase_energy();
+}
+
+}  // namespace drape

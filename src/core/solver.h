@@ -1,0 +1,44 @@
+// The solver interface: each method advances the whole state by one frame, splitting it into
+// substeps as the method needs. Methods share forces.h and collider.h.
+#pragma once
+
+#include <memory>
+#include <vector>
+
+#include "drape/collider.h"
+#include "drape/cloth.h"
+#include "drape/scene.h"
+
+namespace drape {
+
+/// Everything a solver reads and writes during a frame.
+struct World {
+  const ClothModel& model;
+  ClothState& state;
+  const ForcesDef& forces;
+  const std::vector<Collider>& colliders;
+  double time = 0.0;  ///< s, at the start of the frame
+};
+
+class Solver {
+ public:
+  virtual ~Solver() = default;
+  /// Called before the first frame and whenever the model, pins, masses or settings change.
+  /// Sizes the workspace (step_frame allocates nothing). Throws InputError if the method
+  /// cannot run this set-up (e.g. too many substeps).
+  virtual void prepare(const World& world, const SolverDef& def) = 0;
+  /// Advances one frame of dt. Leaves state.normal up to date.
+  virtual void step_frame(World& world, double dt) = 0;
+  virtual int substeps() const = 0;
+};
+
+std::unique_ptr<Solver> make_solver(Method method);
+std::unique_ptr<Solver> make_symplectic();
+
+/// The largest explicit step h with h²ω² + 2hγ < 4, where ω² = max_i Σ_s 2k_s/m_i and
+/// γ = max_i Σ_s 2c_s/m_i over the springs s at each free particle i (Gershgorin bounds on the
+/// stiffness and damping matrices scaled by the inverse mass). This holds for the whole cloth;
+/// the single-spring bound 2·sqrt(m/k) does not. Infinite when nothing is free or stiff.
+double explicit_step_bound(const ClothModel& model, const std::vector<double>& inv_mass);
+
+}  // namespace drape

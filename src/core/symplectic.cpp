@@ -1,0 +1,94 @@
+// `symplectic`: the seed's semi-implicit Euler, v ← v + h·f/m, x ← x + h·v, with as many
+// substeps per frame as the stability bound asks.
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <string>
+
+#include "drape/error.h"
+#include "forces.h"
+#include "solver.h"
+#include "parallel.h"
+
+namespace drape {
+
+double explicit_step_bound(const ClothModel& model, const std::vector<double>& inv_mass) {
+  const int32_t n = model.size();
+  std::vector<double> k_sum(n, 0.0), c_sum(n, 0.0);
+  for (const Spring& s : model.springs) {
+    k_sum[s.i] += s.stiffness;
+    k_sum[s.j] += s.stiffness;
+    c_sum[s.i] += s.damping;
+    c_sum[s.j] += s.damping;
+  }
+  double omega2 = 0.0, gamma = 0.0;
+  for (int32_t i = 0; i < n; ++i) {
+    omega2 = std::max(omega2, 2.0 * k_sum[i] * inv_mass[i]);
+    gamma = std::max(gamma, 2.0 * c_sum[i] * inv_mass[i]);
+  }
+  if (omega2 == 0.0) return gamma == 0.0 ? std::numeric_limits<double>::infinity() : 2.0 / gamma;
+  // Positive root of h²ω² + 2hγ − 4 = 0, written to avoid cancellation when γ² ≫ ω².
+  return 4.0 / (gamma + std::sqrt(gamma * gamma + 4.0 * omega2));
+}
+
+namespace {
+
+class Symplectic final : public Solver {
+ public:
+  void prepare(const World& w, const SolverDef& def) override {
+    force_.assign(w.model.size(), Vec3::Zero());
+    if (def.substeps > 0) {
+      substeps_ = def.substeps;
+      return;
+    }
+    const double h = def.safety * explicit_step_bound(w.model, w.state.inv_mass);
+    const double needed = std::ceil(def.dt / h);
+    if (!(needed <= def.max_substeps)) {
+      throw InputError("solver.substeps",
+                       "the symplectic method needs " + std::to_string(needed) +
+                           " substeps per frame to stay stable, more than solver.max_substeps = " +
+                           std::to_string(def.max_substeps) +
+                           "; lower the stiffness or damping, raise the mass, use a smaller dt, "
+                           "or fix solver.substeps yourself");
+    }
+    substeps_ = std::max(1, static_cast<int>(needed));
+  }
+
+  void step_frame(World& w, double dt) override {
+    const double h = dt / substeps_;
+    ClothState& s = w.state;
+    const int32_t n = w.model.size();
+    const bool wind = w.forces.wind.strength > 0.0 && w.forces.wind.coefficient > 0.0;
+    for (int k = 0; k < substeps_; ++k) {
+      // 1. Forces at the start of the substep.
+#pragma omp parallel for schedule(static) if (worth_threads(n))
+      for (int32_t i = 0; i < n; ++i) force_[i] = w.model.mass[i] * w.forces.gravity;
+      forces::add_springs(w.model, s.x, s.v, force_);
+      if (wind) {
+        update_normals(w.model, s);
+        forces::add_wind(w.model, s, w.forces.wind, w.time + k * h, force_);
+      }
+      // 2. Kick, drag, drift. Pinned and held particles have 1/m = 0 and stay exactly put.
+#pragma omp parallel for schedule(static) if (worth_threads(n))
+      for (int32_t i = 0; i < n; ++i) s.v[i] += (h * s.inv_mass[i]) * force_[i];
+      forces::apply_drag(w.forces.air_drag, s.inv_mass, h, s.v);
+#pragma omp parallel for schedule(static) if (worth_threads(n))
+      for (int32_t i = 0; i < n; ++i) s.x[i] += h * s.v[i];
+      // 3. Contacts.
+      resolve_contacts(w.colliders, s);
+    }
+    update_normals(w.model, s);
+  }
+
+  int substeps() const override { return substeps_; }
+
+ private:
+  int substeps_ = 1;
+  std::vector<Vec3> force_;
+};
+
+}  // namespace
+
+std::unique_ptr<Solver> make_symplectic() { return std::make_unique<Symplectic>(); }
+
+}  // namespace drape

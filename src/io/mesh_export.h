@@ -1,0 +1,21 @@
+// Mesh export: the cloth's current surface with positions, normals, uv and triangles, as
+// Wavefront OBJ or binary PLY (both open in Blender and MeshLab).
+#pragma once
+
+#include <string>
+
+#include "drape/cloth.h"
+
+namespace drape::io {
+
+enum class MeshFormat { obj, ply };
+
+/// Writes the mesh to `file` through a temporary name and a rename, so a reader never sees half
+/// a file. Throws std::runtime_error naming the file if it cannot be written.
+void write_mesh(const std::string& file, MeshFormat format, const ClothModel& model,
+                const ClothState& state);
+
+/// Writes `text` to `file` through a temporary name and a rename.
+void write_file_atomically(const std::string& file, const std::string& text);
+
+}  // namespace drape::io

@@ -1,0 +1,432 @@
+#include "io/scene_io.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <sstream>
+
+#include "drape/error.h"
+
+namespace drape::io {
+
+using nlohmann::json;
+
+namespace {
+
+std::string type_name(const json& j) {
+  if (j.is_number_integer()) return "an integer";
+  if (j.is_number()) return "a number";
+  if (j.is_string()) return "a string " + j.dump();
+  if (j.is_boolean()) return j.dump();
+  if (j.is_null()) return "null";
+  if (j.is_array()) return "an array";
+  return "an object";
+}
+
+[[noreturn]] void fail(const std::string& path, const std::string& problem) {
+  throw InputError(path, problem);
+}
+
+// Levenshtein distance, for "did you mean" hints.
+size_t edit_distance(const std::string& a, const std::string& b) {
+  std::vector<size_t> row(b.size() + 1);
+  for (size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  for (size_t i = 1; i <= a.size(); ++i) {
+    size_t diag = row[0];
+    row[0] = i;
+    for (size_t j = 1; j <= b.size(); ++j) {
+      const size_t up = row[j];
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diag + (a[i - 1] == b[j - 1] ? 0 : 1)});
+      diag = up;
+    }
+  }
+  return row[b.size()];
+}
+
+std::string list(const std::vector<std::string>& names) {
+  std::string out;
+  for (const std::string& n : names) out += (out.empty() ? "" : ", ") + n;
+  return out;
+}
+
+// Reads one JSON object, remembering which keys were asked for so that finish() can name the
+// ones nobody knows, with the nearest known name.
+class Reader {
+ public:
+  Reader(const json& j, std::string path) : j_(j), path_(std::move(path)) {
+    if (!j_.is_object()) fail(path_.empty() ? "(top level)" : path_,
+                              "expected an object, got " + type_name(j_));
+  }
+
+  std::string at(const std::string& key) const { return path_.empty() ? key : path_ + "." + key; }
+
+  const json* find(const std::string& key) {
+    known_.push_back(key);
+    auto it = j_.find(key);
+    return it == j_.end() ? nullptr : &*it;
+  }
+
+  void number(const std::string& key, double& out) {
+    if (const json* v = find(key)) out = as_number(*v, at(key));
+  }
+  void integer(const std::string& key, int& out) {
+    if (const json* v = find(key)) out = as_integer(*v, at(key));
+  }
+  void vec3(const std::string& key, Vec3& out) {
+    if (const json* v = find(key)) out = as_vec3(*v, at(key));
+  }
+  void string(const std::string& key, std::string& out) {
+    if (const json* v = find(key)) {
+      if (!v->is_string()) fail(at(key), "expected a string, got " + type_name(*v));
+      out = v->get<std::string>();
+    }
+  }
+  template <class Enum>
+  void choice(const std::string& key, Enum& out, const std::vector<Enum>& options) {
+    const json* v = find(key);
+    if (!v) return;
+    if (!v->is_string()) fail(at(key), "expected a string, got " + type_name(*v));
+    const std::string name = v->get<std::string>();
+    std::vector<std::string> names;
+    for (Enum e : options) {
+      if (name == to_string(e)) {
+        out = e;
+        return;
+      }
+      names.push_back(std::string("\"") + to_string(e) + "\"");
+    }
+    fail(at(key), "unknown value \"" + name + "\"; expected one of " + list(names));
+  }
+
+  void finish() const {
+    for (auto it = j_.begin(); it != j_.end(); ++it) {
+      if (std::find(known_.begin(), known_.end(), it.key()) != known_.end()) continue;
+      std::string best;
+      size_t best_distance = std::numeric_limits<size_t>::max();
+      for (const std::string& k : known_) {
+        const size_t d = edit_distance(it.key(), k);
+        if (d < best_distance) best_distance = d, best = k;
+      }
+      std::string problem = "unknown key";
+      if (!best.empty() && best_distance <= std::max<size_t>(2, best.size() / 3))
+        problem += "; did you mean \"" + best + "\"?";
+      else
+        problem += "; known keys here: " + list(known_);
+      fail(at(it.key()), problem);
+    }
+  }
+
+  static double as_number(const json& v, const std::string& path) {
+    if (!v.is_number()) fail(path, "expected a number, got " + type_name(v));
+    const double x = v.get<double>();
+    if (!std::isfinite(x)) fail(path, "must be a finite number");
+    return x;
+  }
+  static int as_integer(const json& v, const std::string& path) {
+    const double x = as_number(v, path);
+    if (x != std::floor(x)) fail(path, "expected an integer, got " + v.dump());
+    if (std::abs(x) > 1e9) fail(path, v.dump() + " is too large (at most 1e9)");
+    return static_cast<int>(x);
+  }
+  static Vec3 as_vec3(const json& v, const std::string& path) {
+    if (!v.is_array() || v.size() != 3)
+      fail(path, "expected an array of 3 numbers [x, y, z], got " + v.dump());
+    return {as_number(v[0], path + "[0]"), as_number(v[1], path + "[1]"),
+            as_number(v[2], path + "[2]")};
+  }
+  static void pair(const json& v, const std::string& path, const char* form) {
+    if (!v.is_array() || v.size() != 2)
+      fail(path, std::string("expected an array of 2 ") + form + ", got " + v.dump());
+  }
+
+ private:
+  const json& j_;
+  std::string path_;
+  std::vector<std::string> known_;
+};
+
+void read_springs(Reader& springs, const std::string& kind, SpringParams& p) {
+  if (const json* v = springs.find(kind)) {
+    Reader r(*v, springs.at(kind));
+    r.number("stiffness", p.stiffness);
+    r.number("damping", p.damping);
+    r.finish();
+  }
+}
+
+std::vector<Pin> read_pins(const json& v, const std::string& path) {
+  if (!v.is_array()) fail(path, "expected an array of pins, got " + type_name(v));
+  std::vector<Pin> pins;
+  for (size_t k = 0; k < v.size(); ++k) {
+    const std::string at = path + "[" + std::to_string(k) + "]";
+    const json& p = v[k];
+    if (p.is_string()) {
+      const std::string name = p.get<std::string>();
+      if (name == "top-left") pins.push_back({0, 0});
+      else if (name == "top-right") pins.push_back({-1, 0});
+      else if (name == "bottom-left") pins.push_back({0, -1});
+      else if (name == "bottom-right") pins.push_back({-1, -1});
+      else
+        fail(at, "unknown corner \"" + name +
+                     "\"; expected \"top-left\", \"top-right\", \"bottom-left\", "
+                     "\"bottom-right\" or a grid index [col, row]");
+    } else {
+      Reader::pair(p, at, "integers [col, row] or a corner name");
+      pins.push_back({Reader::as_integer(p[0], at + "[0]"), Reader::as_integer(p[1], at + "[1]")});
+    }
+  }
+  return pins;
+}
+
+ColliderDef read_collider(const json& v, const std::string& path) {
+  Reader r(v, path);
+  ColliderDef c;
+  const json* type = r.find("type");
+  if (!type) fail(r.at("type"), "missing; expected \"sphere\" or \"plane\"");
+  r.choice("type", c.type, {ColliderType::sphere, ColliderType::plane});
+  if (c.type == ColliderType::sphere) {
+    r.vec3("center", c.center);
+    r.number("radius", c.radius);
+  } else {
+    c.center = Vec3::Zero();
+    r.vec3("point", c.center);
+    r.vec3("normal", c.normal);
+  }
+  r.number("friction", c.friction);
+  r.number("thickness", c.thickness);
+  r.finish();
+  return c;
+}
+
+std::string read_text(const std::string& file) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  if (!fs::exists(file, ec)) fail("", "no such file");
+  if (!fs::is_regular_file(file, ec)) fail("", "not a regular file");
+  std::ifstream in(file, std::ios::binary);
+  if (!in) fail("", "cannot be opened for reading");
+  std::ostringstream text;
+  text << in.rdbuf();
+  if (in.bad()) fail("", "cannot be read");
+  const std::string s = text.str();
+  if (s.find_first_not_of(" \t\r\n") == std::string::npos) fail("", "the file is empty");
+  return s;
+}
+
+// nlohmann's message without its "[json.exception.name.id] " prefix.
+const char* without_prefix(const nlohmann::json::exception& e) {
+  const char* msg = e.what();
+  const char* end = std::strchr(msg, ']');
+  return end && end[1] == ' ' ? end + 2 : msg;
+}
+
+json parse_json(const std::string& text) {
+  try {
+    return json::parse(text);
+  } catch (const json::exception& e) {
+    // "[json.exception.parse_error.101] parse error at line 3, column 5: ...", or
+    // "[json.exception.out_of_range.406] number overflow parsing '1e999'".
+    fail("", std::string("invalid JSON: ") + without_prefix(e));
+  }
+}
+
+// Paths as InputError writes them: colliders.0.radius -> colliders[0].radius.
+std::string display_path(const std::vector<std::string>& parts) {
+  std::string out;
+  for (const std::string& p : parts) {
+    const bool index = !p.empty() && std::all_of(p.begin(), p.end(), ::isdigit);
+    out += index ? "[" + p + "]" : (out.empty() ? "" : ".") + p;
+  }
+  return out;
+}
+
+}  // namespace
+
+SceneDef parse_scene(const json& j, const std::string& source) {
+  try {
+    SceneDef def;
+    Reader top(j, "");
+    top.string("name", def.name);
+    if (const json* cj = top.find("cloth")) {
+      ClothDef& c = def.cloth;
+      Reader r(*cj, "cloth");
+      if (const json* v = r.find("size")) {
+        Reader::pair(*v, "cloth.size", "numbers [width, height] in m");
+        c.width = Reader::as_number((*v)[0], "cloth.size[0]");
+        c.height = Reader::as_number((*v)[1], "cloth.size[1]");
+      }
+      if (const json* v = r.find("resolution")) {
+        Reader::pair(*v, "cloth.resolution", "integers [columns, rows]");
+        c.cols = Reader::as_integer((*v)[0], "cloth.resolution[0]");
+        c.rows = Reader::as_integer((*v)[1], "cloth.resolution[1]");
+      }
+      r.vec3("origin", c.origin);
+      r.choice("orientation", c.orientation, {Orientation::vertical, Orientation::horizontal});
+      r.number("mass", c.mass);
+      if (const json* v = r.find("pins")) c.pins = read_pins(*v, "cloth.pins");
+      if (const json* v = r.find("springs")) {
+        Reader s(*v, "cloth.springs");
+        read_springs(s, "structural", c.structural);
+        read_springs(s, "shear", c.shear);
+        read_springs(s, "bending", c.bending);
+        s.finish();
+      }
+      r.number("perturbation", c.perturbation);
+      r.finish();
+    }
+    if (const json* fj = top.find("forces")) {
+      Reader r(*fj, "forces");
+      r.vec3("gravity", def.forces.gravity);
+      r.number("air_drag", def.forces.air_drag);
+      if (const json* wj = r.find("wind")) {
+        WindDef& w = def.forces.wind;
+        Reader wr(*wj, "forces.wind");
+        wr.choice("model", w.model, {WindModel::seed, WindModel::aero});
+        wr.vec3("direction", w.direction);
+        wr.number("strength", w.strength);
+        wr.number("coefficient", w.coefficient);
+        wr.number("density", w.density);
+        wr.number("gust", w.gust);
+        wr.number("gust_frequency", w.gust_frequency);
+        wr.finish();
+      }
+      r.finish();
+    }
+    if (const json* cj = top.find("colliders")) {
+      if (!cj->is_array()) fail("colliders", "expected an array, got " + type_name(*cj));
+      for (size_t k = 0; k < cj->size(); ++k)
+        def.colliders.push_back(read_collider((*cj)[k], "colliders[" + std::to_string(k) + "]"));
+    }
+    if (const json* sj = top.find("solver")) {
+      Reader r(*sj, "solver");
+      r.choice("method", def.solver.method, {Method::symplectic});
+      r.number("dt", def.solver.dt);
+      r.integer("substeps", def.solver.substeps);
+      r.number("safety", def.solver.safety);
+      r.integer("max_substeps", def.solver.max_substeps);
+      r.finish();
+    }
+    top.number("duration", def.duration);
+    top.finish();
+    check(def);
+    return def;
+  } catch (const InputError& e) {
+    throw InputError(e.path().empty() ? source : source + ": " + e.path(), e.problem());
+  }
+}
+
+void apply_override(json& scene, const std::string& assignment) {
+  const size_t eq = assignment.find('=');
+  if (eq == std::string::npos || eq == 0)
+    fail("--set " + assignment, "expected KEY=VALUE, e.g. cloth.resolution=[64,64]");
+  const std::string key = assignment.substr(0, eq);
+  const std::string text = assignment.substr(eq + 1);
+  json value;
+  try {
+    value = json::parse(text);
+  } catch (const json::parse_error&) {
+    value = text;  // a bare word is a string
+  } catch (const json::exception& e) {
+    fail("--set " + key, without_prefix(e));
+  }
+  std::vector<std::string> parts;
+  std::stringstream ss(key);
+  for (std::string part; std::getline(ss, part, '.');) {
+    if (part.empty()) fail("--set " + key, "empty component in the key");
+    parts.push_back(part);
+  }
+  json* node = &scene;
+  for (size_t k = 0; k < parts.size(); ++k) {
+    const std::string& p = parts[k];
+    const bool last = k + 1 == parts.size();
+    if (node->is_array()) {
+      const bool index = std::all_of(p.begin(), p.end(), ::isdigit) && p.size() < 9;
+      const std::string where = display_path({parts.begin(), parts.begin() + k});
+      if (!index) fail("--set " + key, where + " is an array; expected an index, got \"" + p + "\"");
+      const size_t i = std::stoul(p);
+      if (i >= node->size())
+        fail("--set " + key, where + " has " + std::to_string(node->size()) +
+                                 " element(s); there is no element " + p);
+      node = &(*node)[i];
+    } else {
+      if (node->is_null()) *node = json::object();
+      if (!node->is_object())
+        fail("--set " + key, display_path({parts.begin(), parts.begin() + k}) +
+                                 " is not an object, so it has no key \"" + p + "\"");
+      node = &(*node)[p];
+    }
+    if (last) *node = value;
+  }
+}
+
+SceneDef load_scene(const std::string& file, const std::vector<std::string>& overrides) {
+  json j;
+  try {
+    j = parse_json(read_text(file));
+    for (const std::string& o : overrides) apply_override(j, o);
+  } catch (const InputError& e) {
+    throw InputError(e.path().empty() ? file : file + ": " + e.path(), e.problem());
+  }
+  return parse_scene(j, file);
+}
+
+json to_json(const SceneDef& d) {
+  auto v3 = [](const Vec3& v) { return json::array({v.x(), v.y(), v.z()}); };
+  auto springs = [](const SpringParams& p) {
+    return json{{"stiffness", p.stiffness}, {"damping", p.damping}};
+  };
+  json pins = json::array();
+  for (const Pin& p : d.cloth.pins) pins.push_back({p.col, p.row});
+  json colliders = json::array();
+  for (const ColliderDef& c : d.colliders) {
+    json o{{"type", to_string(c.type)}, {"friction", c.friction}, {"thickness", c.thickness}};
+    if (c.type == ColliderType::sphere) {
+      o["center"] = v3(c.center);
+      o["radius"] = c.radius;
+    } else {
+      o["point"] = v3(c.center);
+      o["normal"] = v3(c.normal);
+    }
+    colliders.push_back(o);
+  }
+  const ClothDef& c = d.cloth;
+  const WindDef& w = d.forces.wind;
+  return json{
+      {"name", d.name},
+      {"cloth",
+       {{"size", {c.width, c.height}},
+        {"resolution", {c.cols, c.rows}},
+        {"origin", v3(c.origin)},
+        {"orientation", to_string(c.orientation)},
+        {"mass", c.mass},
+        {"pins", pins},
+        {"springs",
+         {{"structural", springs(c.structural)},
+          {"shear", springs(c.shear)},
+          {"bending", springs(c.bending)}}},
+        {"perturbation", c.perturbation}}},
+      {"forces",
+       {{"gravity", v3(d.forces.gravity)},
+        {"air_drag", d.forces.air_drag},
+        {"wind",
+         {{"model", to_string(w.model)},
+          {"direction", v3(w.direction)},
+          {"strength", w.strength},
+          {"coefficient", w.coefficient},
+          {"density", w.density},
+          {"gust", w.gust},
+          {"gust_frequency", w.gust_frequency}}}}},
+      {"colliders", colliders},
+      {"solver",
+       {{"method", to_string(d.solver.method)},
+        {"dt", d.solver.dt},
+        {"substeps", d.solver.substeps},
+        {"safety", d.solver.safety},
+        {"max_substeps", d.solver.max_substeps}}},
+      {"duration", d.duration}};
+}
+
+}  // namespace drape::io

@@ -1,0 +1,29 @@
+// Scene files: JSON in, SceneDef out, every problem reported with the file, the JSON path and
+// what is wrong. The keys, their units, defaults and ranges are listed in the README.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "drape/scene.h"
+
+namespace drape::io {
+
+/// Reads `file`, applies the overrides ("cloth.resolution=[64,64]": a dotted path, then a JSON
+/// value; a bare word is a string), checks types, names and ranges, and returns the scene.
+/// Throws InputError whose message starts with the file name.
+SceneDef load_scene(const std::string& file, const std::vector<std::string>& overrides = {});
+
+/// The same for JSON already in memory; `source` names it in messages.
+SceneDef parse_scene(const nlohmann::json& j, const std::string& source);
+
+/// Sets one "dotted.path=value" override in a scene's JSON. Objects on the way are created;
+/// array elements are addressed by number (colliders.0.radius). Throws InputError.
+void apply_override(nlohmann::json& scene, const std::string& assignment);
+
+/// Every key of a scene, with every value given: parse_scene(to_json(d)) reproduces d.
+nlohmann::json to_json(const SceneDef& def);
+
+}  // namespace drape::io

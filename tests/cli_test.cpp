@@ -1,0 +1,213 @@
+// `drape run` as a user runs it: exit codes, messages, stats and exports.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+struct Result {
+  int code = -1;
+  std::string output;  // stdout and stderr together
+};
+
+Result drape(const std::string& args) {
+  const std::string command = std::string(DRAPE_EXE) + " " + args + " 2>&1";
+  Result r;
+  FILE* pipe = popen(command.c_str(), "r");
+  if (!pipe) return r;
+  std::array<char, 4096> buf;
+  size_t n;
+  while ((n = fread(buf.data(), 1, buf.size(), pipe)) > 0) r.output.append(buf.data(), n);
+  const int status = pclose(pipe);
+  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return r;
+}
+
+std::string scene(const std::string& name) {
+  return std::string(DRAPE_SOURCE_DIR) + "/scenes/" + name + ".json";
+}
+
+class Cli : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() /
+           (std::string("drape_cli_") +
+            ::testing::UnitTest::GetInstance()->current_test_info()->name() + "_" +
+            std::to_string(getpid()));
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  std::string path(const std::string& name) const { return (dir_ / name).string(); }
+  json read_json(const std::string& file) const {
+    std::ifstream in(file);
+    return json::parse(in);
+  }
+  fs::path dir_;
+};
+
+TEST_F(Cli, EveryShippedSceneRunsAndWritesItsStats) {
+  for (const char* name : {"hang", "wind", "sphere", "ground"}) {
+    const std::string stats = path(std::string(name) + ".json");
+    const Result r = drape("run " + scene(name) + " --seconds 0.5 --stats " + stats);
+    ASSERT_EQ(r.code, 0) << r.output;
+    EXPECT_NE(r.output.find("frames"), std::string::npos);
+    const json s = read_json(stats);
+    for (const char* key :
+         {"status", "diverged_frame", "method", "particles", "springs", "frames",
+          "substeps_per_frame", "sim_seconds", "wall_seconds", "setup_ms", "ms_per_frame",
+          "kinetic_energy", "max_strain", "mean_strain", "max_penetration", "pinned_drift",
+          "finite"})
+      EXPECT_TRUE(s.contains(key)) << name << " lacks " << key;
+    EXPECT_EQ(s["status"], "ok");
+    EXPECT_TRUE(s["diverged_frame"].is_null());
+    EXPECT_EQ(s["frames"], 30);
+    EXPECT_EQ(s["particles"], 1024);
+    EXPECT_EQ(s["finite"], true);
+    EXPECT_EQ(s["pinned_drift"], 0.0);
+  }
+}
+
+TEST_F(Cli, ExportsEveryNthFrameAndTheLastAsObj) {
+  const std::string out = path("frames");
+  const Result r =
+      drape("run " + scene("hang") + " --seconds 0.2 --export " + out + " --every 5 --quiet");
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_TRUE(r.output.empty()) << r.output;  // --quiet
+  // 12 frames: 0, 5, 10 and the last, 12.
+  for (const char* f : {"frame_00000.obj", "frame_00005.obj", "frame_00010.obj", "frame_00012.obj"})
+    EXPECT_TRUE(fs::exists(fs::path(out) / f)) << f;
+  EXPECT_FALSE(fs::exists(fs::path(out) / "frame_00001.obj"));
+  std::ifstream in(fs::path(out) / "frame_00012.obj");
+  int v = 0, vn = 0, vt = 0, f = 0;
+  for (std::string line; std::getline(in, line);) {
+    std::istringstream ls(line);
+    std::string tag;
+    ls >> tag;
+    v += tag == "v", vn += tag == "vn", vt += tag == "vt";
+    if (tag == "f") {
+      ++f;
+      std::string corner;
+      while (ls >> corner) {  // v/vt/vn, 1-based and in range
+        const int index = std::stoi(corner.substr(0, corner.find('/')));
+        EXPECT_GE(index, 1);
+        EXPECT_LE(index, 1024);
+      }
+    }
+  }
+  EXPECT_EQ(v, 1024);
+  EXPECT_EQ(vn, 1024);
+  EXPECT_EQ(vt, 1024);
+  EXPECT_EQ(f, 2 * 31 * 31);
+}
+
+TEST_F(Cli, ExportsPlyWithAHeaderMeshLabReads) {
+  const std::string out = path("ply");
+  const Result r = drape("run " + scene("sphere") + " --seconds 0.05 --export " + out +
+                         " --format ply --quiet");
+  ASSERT_EQ(r.code, 0) << r.output;
+  const fs::path file = fs::path(out) / "frame_00003.ply";
+  ASSERT_TRUE(fs::exists(file));
+  std::ifstream in(file, std::ios::binary);
+  std::string header, line;
+  while (std::getline(in, line) && line != "end_header") header += line + "\n";
+  EXPECT_NE(header.find("format binary_little_endian 1.0"), std::string::npos);
+  EXPECT_NE(header.find("element vertex 1024"), std::string::npos);
+  EXPECT_NE(header.find("element face 1922"), std::string::npos);
+  const size_t body = fs::file_size(file) - static_cast<size_t>(in.tellg());
+  EXPECT_EQ(body, 1024 * 8 * 4 + 1922 * (1 + 3 * 4));
+}
+
+TEST_F(Cli, ExportRefusesAFolderFromAnEarlierRunUnlessForced) {
+  const std::string out = path("again");
+  ASSERT_EQ(drape("run " + scene("hang") + " --seconds 0.05 --export " + out + " --quiet").code, 0);
+  const Result again = drape("run " + scene("hang") + " --seconds 0.05 --export " + out);
+  EXPECT_EQ(again.code, 2);
+  EXPECT_NE(again.output.find("--force"), std::string::npos) << again.output;
+  EXPECT_EQ(drape("run " + scene("hang") + " --seconds 0.05 --export " + out + " --force --quiet")
+                .code,
+            0);
+}
+
+TEST_F(Cli, SetOverridesAnyKey) {
+  const std::string stats = path("s.json");
+  const Result r = drape("run " + scene("hang") +
+                         " --seconds 0.05 --set cloth.resolution=[8,6] --set solver.substeps=7"
+                         " --set name=small --stats " + stats);
+  ASSERT_EQ(r.code, 0) << r.output;
+  const json s = read_json(stats);
+  EXPECT_EQ(s["particles"], 48);
+  EXPECT_EQ(s["substeps_per_frame"], 7);
+  EXPECT_EQ(s["scene"], "small");
+}
+
+struct BadRun {
+  const char* args;
+  const char* words;
+};
+
+void PrintTo(const BadRun& r, std::ostream* os) { *os << r.args; }
+
+class CliBadInput : public Cli, public ::testing::WithParamInterface<BadRun> {};
+
+TEST_P(CliBadInput, ExitsTwoWithOneClearMessageAndWritesNothing) {
+  const std::string stats = path("stats.json"), out = path("out");
+  std::string args = GetParam().args;  // HANG and DIR stand for the scene and a scratch folder
+  if (size_t at = args.find("HANG"); at != std::string::npos) args.replace(at, 4, scene("hang"));
+  if (size_t at = args.find("DIR"); at != std::string::npos) args.replace(at, 3, dir_.string());
+  const Result r = drape("run " + args + " --stats " + stats + " --export " + out);
+  EXPECT_EQ(r.code, 2) << r.output;
+  EXPECT_NE(r.output.find(GetParam().words), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(stats));
+  EXPECT_FALSE(fs::exists(out));
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Cases, CliBadInput,
+    ::testing::Values(BadRun{"DIR/missing.json", "missing.json: no such file"},
+                      BadRun{"HANG --set cloth.mass=-1", "cloth.mass: is -1"},
+                      BadRun{"HANG --set cloth.masss=2", "did you mean \"mass\""},
+                      BadRun{"HANG --set solver.method=rk4", "solver.method"},
+                      BadRun{"HANG --set cloth.springs.structural.stiffness=1e9",
+                             "substeps per frame"},
+                      BadRun{"HANG --seconds -1", "duration"},
+                      BadRun{"HANG --every 0", "--every"},
+                      BadRun{"HANG --format stl", "--format"},
+                      BadRun{"HANG --no-such-flag", "no-such-flag"}));
+
+TEST_F(Cli, DivergenceExitsThreeWithFrameAndHintAndStillWritesStats) {
+  const std::string stats = path("d.json");
+  const Result r = drape("run " + scene("hang") +
+                         " --set cloth.springs.structural.stiffness=1e9 --set solver.substeps=1"
+                         " --stats " + stats);
+  EXPECT_EQ(r.code, 3) << r.output;
+  EXPECT_NE(r.output.find("diverged at frame 1"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("smaller solver.dt"), std::string::npos) << r.output;
+  const json s = read_json(stats);
+  EXPECT_EQ(s["status"], "diverged");
+  EXPECT_EQ(s["diverged_frame"], 1);
+}
+
+TEST_F(Cli, InterruptFinishesTheFrameWritesStatsAndExits130) {
+  const std::string stats = path("i.json");
+  const std::string command = std::string(DRAPE_EXE) + " run " + scene("hang") +
+                              " --seconds 1000 --quiet --stats " + stats +
+                              " & pid=$!; sleep 1; kill -INT $pid; wait $pid";
+  const int status = std::system(("bash -c '" + command + "'").c_str());
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 130);
+  const json s = read_json(stats);
+  EXPECT_EQ(s["status"], "interrupted");
+  EXPECT_GT(s["frames"].get<int>(), 0);
+}
+
+}  // namespace
