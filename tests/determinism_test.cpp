@@ -38,11 +38,9 @@ SceneDef shipped(const std::string& name) {
   return io::load_scene(std::string(DRAPE_SOURCE_DIR) + "/scenes/" + name + ".json");
 }
 
-const Method kMethods[] = {Method::symplectic};
-
 TEST(Determinism, EachShippedSceneAndMethodHashesTheSameTwice) {
   for (const char* name : {"hang", "wind", "sphere", "ground"}) {
-    for (Method method : kMethods) {
+    for (Method method : kAllMethods) {
       SceneDef def = shipped(name);
       def.solver.method = method;
       const uint64_t first = run(def, 20), second = run(def, 20);

@@ -11,10 +11,13 @@ inline constexpr int kExitOk = 0;
 inline constexpr int kExitBadInput = 2;
 inline constexpr int kExitDiverged = 3;
 
-/// Registers `drape run`; the returned function runs it after parsing.
+/// Each registers a subcommand; the returned function runs it if it was given (else -1).
 std::function<int()> add_run_command(CLI::App& app);
+std::function<int()> add_bench_command(CLI::App& app);
 
-/// The shipped scenes' folder: $DRAPE_SCENES, else ./scenes, else the source tree's.
-std::string scenes_dir();
+/// A data folder shipped with drape ("scenes", "bench"): $DRAPE_SCENES or $DRAPE_BENCH, else
+/// the folder of that name in the working directory, else the source tree's.
+std::string data_dir(const std::string& name);
+inline std::string scenes_dir() { return data_dir("scenes"); }
 
 }  // namespace drape::app

@@ -7,11 +7,13 @@
 
 namespace drape::app {
 
-std::string scenes_dir() {
-  if (const char* env = std::getenv("DRAPE_SCENES")) return env;
+std::string data_dir(const std::string& name) {
+  std::string env_name = "DRAPE_" + name;
+  for (char& c : env_name) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+  if (const char* env = std::getenv(env_name.c_str())) return env;
   std::error_code ec;
-  if (std::filesystem::is_directory("scenes", ec)) return "scenes";
-  return DRAPE_SCENES_DIR;
+  if (std::filesystem::is_directory(name, ec)) return name;
+  return std::string(DRAPE_SOURCE_DIR) + "/" + name;
 }
 
 }  // namespace drape::app
@@ -22,13 +24,14 @@ int main(int argc, char** argv) {
   app.set_version_flag("--version", DRAPE_VERSION);
   app.require_subcommand(1);
   const auto run = add_run_command(app);
+  const auto bench = add_bench_command(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     const int code = app.exit(e);
     return code == 0 ? 0 : kExitBadInput;
   }
-  for (const auto& command : {run}) {
+  for (const auto& command : {run, bench}) {
     const int code = command();
     if (code >= 0) return code;
   }

@@ -310,7 +310,8 @@ SceneDef parse_scene(const json& j, const std::string& source) {
     }
     if (const json* sj = top.find("solver")) {
       Reader r(*sj, "solver");
-      r.choice("method", def.solver.method, {Method::symplectic});
+      r.choice("method", def.solver.method,
+               std::vector<Method>(std::begin(kAllMethods), std::end(kAllMethods)));
       r.number("dt", def.solver.dt);
       r.integer("substeps", def.solver.substeps);
       r.number("safety", def.solver.safety);
