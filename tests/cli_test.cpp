@@ -230,6 +230,43 @@ TEST_F(Cli, InterruptFinishesTheFrameWritesStatsAndExits130) {
   EXPECT_GT(s["frames"].get<int>(), 0);
 }
 
+TEST_F(Cli, BenchInterruptedWritesTheRowsSoFarAndExits130) {
+  const std::string out = path("bench");
+  const std::string command = std::string(DRAPE_EXE) +
+                              " bench --scenes hang --sizes 16 --methods symplectic --threads 1"
+                              " --frames 1000000 --max-updates 1e15 --out " + out +
+                              " >/dev/null 2>&1 & pid=$!; sleep 1; kill -INT $pid; wait $pid";
+  const int status = std::system(("bash -c '" + command + "'").c_str());
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 130);
+  const json rows = read_json(out + "/bench.json");
+  ASSERT_EQ(rows.size(), 1u);
+  EXPECT_EQ(rows[0]["status"], "interrupted");
+  EXPECT_TRUE(fs::exists(out + "/bench.csv"));
+}
+
+TEST_F(Cli, BenchReportsSpeedBesideQuality) {
+  const std::string out = path("bench");
+  const Result r = drape("bench --scenes hang,drape --sizes 12 --methods symplectic --threads 1"
+                         " --frames 30 --out " + out);
+  ASSERT_EQ(r.code, 0) << r.output;
+  const json rows = read_json(out + "/bench.json");
+  ASSERT_EQ(rows.size(), 2u);
+  for (const json& row : rows) {
+    EXPECT_EQ(row["status"], "ok");
+    EXPECT_EQ(row["particles"], 144);
+    EXPECT_GT(row["ms_per_frame_median"].get<double>(), 0.0);
+    EXPECT_TRUE(row.contains("p99_strain"));
+    // The bar is exactly this: strain within 1% and, on the sphere, no deep contact.
+    const bool bar = row["max_strain_last_second"].get<double>() <= 0.01 &&
+                     row["max_strain"].get<double>() <= 0.01 &&
+                     row["penetration_fraction_of_radius"].get<double>() <= 0.01 &&
+                     row["on_sphere"].get<bool>();
+    EXPECT_EQ(row["quality"].get<bool>(), bar);
+  }
+  EXPECT_EQ(drape("bench --methods rk4 --out " + out).code, 2);
+}
+
 TEST_F(Cli, TerminateKeepsTheExportsSoFarAndExits143) {
   const std::string out = path("term");
   const std::string command = std::string(DRAPE_EXE) + " run " + scene("hang") +
