@@ -2,8 +2,12 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <regex>
+#include <string>
+#include <vector>
 
 #include "app/commands.h"
+#include "drape/error.h"
 
 namespace drape::app {
 
@@ -14,6 +18,17 @@ std::string scenes_dir() {
   return DRAPE_SCENES_DIR;
 }
 
+void parse_size(const std::string& option, const std::string& text, int& width, int& height) {
+  static const std::regex pattern(R"(\s*(\d{1,5})\s*[xX]\s*(\d{1,5})\s*)");
+  std::smatch m;
+  if (std::regex_match(text, m, pattern)) {
+    width = std::stoi(m[1]);
+    height = std::stoi(m[2]);
+    if (width >= 16 && height >= 16 && width <= 8192 && height <= 8192) return;
+  }
+  throw InputError(option, "\"" + text + "\" is not a size WIDTHxHEIGHT in pixels, each 16 to 8192");
+}
+
 }  // namespace drape::app
 
 int main(int argc, char** argv) {
@@ -21,14 +36,20 @@ int main(int argc, char** argv) {
   CLI::App app("drape: a fast, stable cloth simulator (mass-spring)", "drape");
   app.set_version_flag("--version", DRAPE_VERSION);
   app.require_subcommand(1);
-  const auto run = add_run_command(app);
+  std::vector<std::function<int()>> commands{add_run_command(app)};
+#ifdef DRAPE_HAVE_VIEWER
+  commands.push_back(add_view_command(app));
+#endif
+#ifdef DRAPE_HAVE_RENDER
+  commands.push_back(add_render_command(app));
+#endif
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     const int code = app.exit(e);
     return code == 0 ? 0 : kExitBadInput;
   }
-  for (const auto& command : {run}) {
+  for (const auto& command : commands) {
     const int code = command();
     if (code >= 0) return code;
   }
