@@ -476,7 +476,7 @@ void Renderer::draw(const OrbitCamera& camera, const PixelRect& rect, const Clot
 
   if (have_cloth) {
     // Markers keep their size in pixels: a fixed fraction of the viewport's height.
-    const float size = std::clamp(rect.height / 90.0f, 5.0f, 14.0f);
+    const float size = std::clamp(rect.height / 70.0f, 6.0f, 16.0f);
     line_data_.clear();
     if (options.pins)
       for (size_t i = 0; i < x_.size(); ++i)
