@@ -482,11 +482,14 @@ void Renderer::draw(const OrbitCamera& camera, const PixelRect& rect, const Clot
       for (size_t i = 0; i < x_.size(); ++i)
         if (pinned_[i]) push(line_data_, x_[i], kPin);
     draw_lines(line_data_, GL_POINTS, view_proj, size);
+    // The cursor's particle stays visible behind folds: the hand is on it.
     line_data_.clear();
     const int32_t mark = options.held >= 0 ? options.held : options.highlighted;
     if (mark >= 0 && mark < static_cast<int32_t>(x_.size()))
       push(line_data_, x_[mark], options.held >= 0 ? kHeld : kHighlight);
+    glDisable(GL_DEPTH_TEST);
     draw_lines(line_data_, GL_POINTS, view_proj, 1.6f * size);
+    glEnable(GL_DEPTH_TEST);
   }
 
   glBindVertexArray(0);
