@@ -312,7 +312,9 @@ void Viewer::rebuild(const SceneDef& def) {
 
 void Viewer::apply_edit(bool new_cloth) {
   try {
-    if (new_cloth || !sim_->reconfigure(edit_)) {
+    // A diverged simulation steps no more: a changed setting (a smaller dt, more substeps)
+    // starts the cloth afresh with it.
+    if (new_cloth || sim_->diverged() || !sim_->reconfigure(edit_)) {
       rebuild(edit_);
     } else {
       def_ = edit_;
@@ -495,9 +497,10 @@ void Viewer::draw_panel() {
   }
   if (live || new_cloth) apply_edit(new_cloth);
 
-  ImGui::Separator();
-  if (!status_.empty()) ImGui::TextWrapped("%s", status_.c_str());
-  ImGui::TextWrapped("%s", kHelpLine);
+  if (!status_.empty()) {
+    ImGui::Separator();
+    ImGui::TextWrapped("%s", status_.c_str());
+  }
   ImGui::PopItemWidth();
   ImGui::End();
 }
@@ -543,6 +546,28 @@ void Viewer::draw_frame() {
   ImGui::NewFrame();
   if (o_.panel) draw_panel();
   if (show_help_) draw_help();
+  // The keys, along the bottom of the 3D view.
+  ImGui::SetNextWindowPos(ImVec2(static_cast<float>(vp.x) + 8.0f, ImGui::GetIO().DisplaySize.y - 8.0f),
+                          ImGuiCond_Always, ImVec2(0.0f, 1.0f));
+  ImGui::SetNextWindowBgAlpha(0.45f);
+  ImGui::Begin("keys", nullptr,
+               ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_AlwaysAutoResize |
+                   ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoFocusOnAppearing |
+                   ImGuiWindowFlags_NoNav | ImGuiWindowFlags_NoInputs);
+  ImGui::TextUnformatted(kHelpLine);
+  ImGui::End();
+  if (sim_->diverged()) {
+    // Over the 3D view too, so it is seen with the panel hidden or scrolled.
+    ImGui::SetNextWindowPos(ImVec2(static_cast<float>(vp.x + 0.5 * vp.width), 10.0f),
+                            ImGuiCond_Always, ImVec2(0.5f, 0.0f));
+    ImGui::Begin("diverged", nullptr,
+                 ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_AlwaysAutoResize |
+                     ImGuiWindowFlags_NoMove);
+    ImGui::TextColored(ImVec4(1.0f, 0.35f, 0.3f, 1.0f),
+                       "The simulation diverged at frame %lld and is paused: R resets it",
+                       static_cast<long long>(sim_->diverged_frame()));
+    ImGui::End();
+  }
   ImGui::Render();
 
   renderer_->update(sim_->model(), sim_->state());

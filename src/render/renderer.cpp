@@ -63,11 +63,13 @@ uniform vec3 u_grid_v;
 out vec4 o_color;
 
 vec3 lit(vec3 base, vec3 n, vec3 to_eye) {
-  // A key light from above and in front, a headlight so nothing facing the eye is black, and a
-  // sky/ground ambient term.
+  // A key light from above and in front, a weaker fill from below and behind, a headlight so
+  // nothing facing the eye is black, and a sky/ground ambient term.
   vec3 key = normalize(vec3(-0.35, 0.85, 0.45));
-  float diffuse = 0.55 * max(dot(n, key), 0.0) + 0.35 * max(dot(n, to_eye), 0.0);
-  float ambient = mix(0.18, 0.32, 0.5 + 0.5 * n.y);
+  vec3 fill = normalize(vec3(0.5, -0.3, -0.6));
+  float diffuse = 0.5 * max(dot(n, key), 0.0) + 0.2 * max(dot(n, fill), 0.0) +
+                  0.35 * max(dot(n, to_eye), 0.0);
+  float ambient = mix(0.22, 0.32, 0.5 + 0.5 * n.y);
   vec3 h = normalize(key + to_eye);
   float specular = 0.12 * pow(max(dot(n, h), 0.0), 32.0);
   return base * (ambient + diffuse) + vec3(specular);
