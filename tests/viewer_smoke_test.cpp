@@ -61,8 +61,8 @@ std::string scene(const std::string& name) {
 // What a picture holds, by colour class.
 struct Picture {
   int width = 0, height = 0;
-  double front = 0.0;      ///< share of pixels in the cloth's front colour (orange)
-  double back = 0.0;       ///< share in its back colour (teal)
+  double front = 0.0;        ///< share of pixels in the cloth's front colour (orange)
+  double back = 0.0;         ///< share in its back colour (teal)
   double luma_stddev = 0.0;  ///< 0–255
   double cloth() const { return front + back; }
 };
@@ -154,8 +154,8 @@ TEST_F(ViewerSmoke, EveryShippedSceneRendersThroughEgl) {
 TEST_F(ViewerSmoke, BothSidesOfTheClothShowInTheirOwnColours) {
   // The hang scene seen from behind (yaw 180°) shows the back, from the front the front.
   const std::string front = path("front"), back = path("back");
-  const std::string base = std::string(DRAPE_EXE) + " render " + scene("hang") +
-                           " --frames 1 --size 200x150 --quiet";
+  const std::string base =
+      std::string(DRAPE_EXE) + " render " + scene("hang") + " --frames 1 --size 200x150 --quiet";
   Result r = shell(base + " --out " + front);
   if (r.code == kNoGraphics) GTEST_SKIP() << "no EGL context: " << r.output;
   ASSERT_EQ(r.code, 0) << r.output;
@@ -177,7 +177,8 @@ TEST_F(ViewerSmoke, ScriptedDragHoldsThePickedParticleOnTheRay) {
   const std::string report = path("drag.json");
   const Result r = shell(prefix + DRAPE_EXE + " view " + scene("hang") +
                          " --frames 30 --size 640x480 --no-panel --drag 320,240,420,220"
-                         " --report " + report);
+                         " --report " +
+                         report);
   if (r.code == kNoGraphics) GTEST_SKIP() << "no OpenGL 3.3 display: " << r.output;
   ASSERT_EQ(r.code, 0) << r.output;
   std::ifstream in(report);
@@ -203,8 +204,8 @@ TEST_F(ViewerSmoke, ScriptedDragHoldsThePickedParticleOnTheRay) {
 }
 
 TEST_F(ViewerSmoke, WithoutADisplayTheViewerSaysSoAndExits) {
-  const Result r = shell(std::string("env -u DISPLAY -u WAYLAND_DISPLAY ") + DRAPE_EXE +
-                         " view " + scene("hang"));
+  const Result r = shell(std::string("env -u DISPLAY -u WAYLAND_DISPLAY ") + DRAPE_EXE + " view " +
+                         scene("hang"));
   EXPECT_EQ(r.code, kNoGraphics) << r.output;
   EXPECT_NE(r.output.find("no display"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("drape render"), std::string::npos) << r.output;

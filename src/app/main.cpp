@@ -26,7 +26,8 @@ void parse_size(const std::string& option, const std::string& text, int& width, 
     height = std::stoi(m[2]);
     if (width >= 16 && height >= 16 && width <= 8192 && height <= 8192) return;
   }
-  throw InputError(option, "\"" + text + "\" is not a size WIDTHxHEIGHT in pixels, each 16 to 8192");
+  throw InputError(option,
+                   "\"" + text + "\" is not a size WIDTHxHEIGHT in pixels, each 16 to 8192");
 }
 
 }  // namespace drape::app

@@ -123,8 +123,9 @@ int render(const RenderOptions& o) {
     }
     frames = o.frames ? *o.frames : frame_count(def);
     if (!o.video.empty() && !on_path("ffmpeg"))
-      throw InputError("--video", "ffmpeg is not installed (apt-get install ffmpeg); without "
-                                  "--video, drape render writes the frames as PNG files");
+      throw InputError("--video",
+                       "ffmpeg is not installed (apt-get install ffmpeg); without "
+                       "--video, drape render writes the frames as PNG files");
     if (out.empty() && o.video.empty()) out = (fs::path("out") / def.name).string();
     if (!out.empty()) prepare_out_dir(out, o.force);
   } catch (const InputError& e) {
@@ -153,7 +154,8 @@ int render(const RenderOptions& o) {
 
   std::unique_ptr<VideoPipe> video;
   if (!o.video.empty())
-    video = std::make_unique<VideoPipe>(o.video, width, height, 1.0 / (sim->def().solver.dt * o.every));
+    video =
+        std::make_unique<VideoPipe>(o.video, width, height, 1.0 / (sim->def().solver.dt * o.every));
 
   int64_t written = 0;
   double render_ms = 0.0;
@@ -194,11 +196,12 @@ int render(const RenderOptions& o) {
 
   if (!o.quiet) {
     const double sim_ms = result.median_ms();
-    std::printf("%s: %lld frames simulated (%.3f ms/frame), %lld drawn at %dx%d in %.1f ms each "
-                "(%s, %d samples)\n",
-                sim->def().name.c_str(), static_cast<long long>(result.frames), sim_ms,
-                static_cast<long long>(written), width, height,
-                written ? render_ms / written : 0.0, context->renderer_name(), context->samples());
+    std::printf(
+        "%s: %lld frames simulated (%.3f ms/frame), %lld drawn at %dx%d in %.1f ms each "
+        "(%s, %d samples)\n",
+        sim->def().name.c_str(), static_cast<long long>(result.frames), sim_ms,
+        static_cast<long long>(written), width, height, written ? render_ms / written : 0.0,
+        context->renderer_name(), context->samples());
     if (!last_file.empty())
       std::printf("  pictures in %s/, the last: %s\n", out.c_str(), last_file.c_str());
     if (video) std::printf("  video: %s\n", o.video.c_str());
@@ -221,8 +224,8 @@ int render(const RenderOptions& o) {
 
 std::function<int()> add_render_command(CLI::App& app) {
   auto o = std::make_shared<RenderOptions>();
-  CLI::App* cmd = app.add_subcommand(
-      "render", "Render a scene's frames to PNG without a display (EGL, Mesa)");
+  CLI::App* cmd =
+      app.add_subcommand("render", "Render a scene's frames to PNG without a display (EGL, Mesa)");
   cmd->add_option("scene", o->scene, "Scene file (JSON)")->required();
   cmd->add_option("--frames", o->frames, "Frames to simulate (default: the scene's duration)")
       ->check(CLI::Range(int64_t{0}, int64_t{1} << 40));

@@ -43,8 +43,8 @@ std::array<double, 4> parse_drag(const std::string& text) {
 
 int view(const ViewCommandOptions& c) {
   ViewerOptions o;
-  o.scene = c.scene.empty() ? (std::filesystem::path(scenes_dir()) / "hang.json").string()
-                            : c.scene;
+  o.scene =
+      c.scene.empty() ? (std::filesystem::path(scenes_dir()) / "hang.json").string() : c.scene;
   o.sets = c.sets;
   o.vsync = !c.no_vsync && c.frames == 0;  // scripted runs go as fast as they can
   o.panel = !c.no_panel;
@@ -87,7 +87,8 @@ std::function<int()> add_view_command(CLI::App& app) {
   cmd->add_option("--frames", o->frames, "Run this many frames, then exit (scripted use)")
       ->check(CLI::Range(int64_t{1}, int64_t{1} << 40));
   cmd->add_option("--screenshot", o->screenshot, "With --frames: save the last frame as PNG");
-  cmd->add_option("--report", o->report, "With --frames: write frame rate and drag figures as JSON");
+  cmd->add_option("--report", o->report,
+                  "With --frames: write frame rate and drag figures as JSON");
   cmd->add_option("--drag", o->drag,
                   "With --frames: press at x0,y0, drag to x1,y1 (window units), hold to the end");
   cmd->add_flag("--no-vsync", o->no_vsync, "Draw as fast as possible");

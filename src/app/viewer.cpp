@@ -4,9 +4,9 @@
 // GLFW after the loader, and without its own GL header: libepoxy declares the functions.
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>
-#include <imgui.h>
 #include <backends/imgui_impl_glfw.h>
 #include <backends/imgui_impl_opengl3.h>
+#include <imgui.h>
 
 #include <algorithm>
 #include <chrono>
@@ -36,8 +36,8 @@ namespace {
 constexpr Method kMethods[] = {Method::symplectic};
 constexpr WindModel kWindModels[] = {WindModel::seed, WindModel::aero};
 
-constexpr float kPanelWidth = 360.0f;  // screen units
-constexpr double kPickPixels = 12.0;   // pick radius around the cursor
+constexpr float kPanelWidth = 360.0f;    // screen units
+constexpr double kPickPixels = 12.0;     // pick radius around the cursor
 constexpr double kOrbitPerUnit = 0.008;  // rad per screen unit of right-drag
 
 constexpr const char* kHelpLine =
@@ -165,23 +165,22 @@ bool Viewer::open() {
     window_ = glfwCreateWindow(o_.width, o_.height, title.c_str(), nullptr, nullptr);
   }
   if (!window_) {
-    std::fprintf(stderr, "drape view: the display offers no OpenGL 3.3 core context; try "
-                         "`drape render SCENE` (EGL, no display needed)\n");
+    std::fprintf(stderr,
+                 "drape view: the display offers no OpenGL 3.3 core context; try "
+                 "`drape render SCENE` (EGL, no display needed)\n");
     return false;
   }
   glfwMakeContextCurrent(window_);
   glfwSwapInterval(o_.vsync ? 1 : 0);
   glfwSetWindowUserPointer(window_, this);
   // Ours first: ImGui's backend chains to the callbacks installed before it.
-  glfwSetMouseButtonCallback(window_, [](GLFWwindow* w, int b, int a, int m) {
-    self(w).on_mouse_button(b, a, m);
-  });
+  glfwSetMouseButtonCallback(
+      window_, [](GLFWwindow* w, int b, int a, int m) { self(w).on_mouse_button(b, a, m); });
   glfwSetCursorPosCallback(window_,
                            [](GLFWwindow* w, double x, double y) { self(w).on_cursor(x, y); });
   glfwSetScrollCallback(window_, [](GLFWwindow* w, double, double dy) { self(w).on_scroll(dy); });
-  glfwSetKeyCallback(window_, [](GLFWwindow* w, int k, int, int a, int m) {
-    self(w).on_key(k, a, m);
-  });
+  glfwSetKeyCallback(window_,
+                     [](GLFWwindow* w, int k, int, int a, int m) { self(w).on_key(k, a, m); });
 
   IMGUI_CHECKVERSION();
   ImGui::CreateContext();
@@ -277,15 +276,25 @@ void Viewer::on_scroll(double dy) {
 void Viewer::on_key(int key, int action, int /*mods*/) {
   if (action != GLFW_PRESS || ImGui::GetIO().WantCaptureKeyboard) return;
   switch (key) {
-    case GLFW_KEY_SPACE: paused_ = !paused_; break;
+    case GLFW_KEY_SPACE:
+      paused_ = !paused_;
+      break;
     case GLFW_KEY_N:
       paused_ = true;
       step_request_ = true;
       break;
-    case GLFW_KEY_R: rebuild(edit_); break;
-    case GLFW_KEY_F: frame_camera(); break;
-    case GLFW_KEY_W: draw_.wireframe = !draw_.wireframe; break;
-    case GLFW_KEY_H: show_help_ = !show_help_; break;
+    case GLFW_KEY_R:
+      rebuild(edit_);
+      break;
+    case GLFW_KEY_F:
+      frame_camera();
+      break;
+    case GLFW_KEY_W:
+      draw_.wireframe = !draw_.wireframe;
+      break;
+    case GLFW_KEY_H:
+      show_help_ = !show_help_;
+      break;
     case GLFW_KEY_P: {
       char name[128];
       std::snprintf(name, sizeof name, "drape_%s_%05lld.png", def_.name.c_str(),
@@ -293,8 +302,11 @@ void Viewer::on_key(int key, int action, int /*mods*/) {
       status_ = save_screenshot(name);
       break;
     }
-    case GLFW_KEY_ESCAPE: glfwSetWindowShouldClose(window_, GLFW_TRUE); break;
-    default: break;
+    case GLFW_KEY_ESCAPE:
+      glfwSetWindowShouldClose(window_, GLFW_TRUE);
+      break;
+    default:
+      break;
   }
 }
 
@@ -358,7 +370,8 @@ void Viewer::draw_panel() {
   ImGui::PushItemWidth(-150.0f);
 
   // Scene.
-  const std::string current = scene_file_.empty() ? def_.name : fs::path(scene_file_).stem().string();
+  const std::string current =
+      scene_file_.empty() ? def_.name : fs::path(scene_file_).stem().string();
   if (ImGui::BeginCombo("scene", current.c_str())) {
     for (const std::string& f : scene_files_) {
       if (ImGui::Selectable(fs::path(f).stem().string().c_str(), f == scene_file_)) open_scene(f);
@@ -535,10 +548,10 @@ void Viewer::draw_frame() {
   // A scripted run has no hand on the mouse: wherever the pointer rests, nothing is hovered.
   const bool hand = o_.frames == 0;
   if (hand && draw_.held < 0 && cursor_x_ >= vp.x && !ImGui::GetIO().WantCaptureMouse) {
-    draw_.highlighted = render::nearest_to_ray(ray_at(cursor_x_, cursor_y_), sim_->state().x,
-                                               render::pick_slope(kPickPixels, vp.height,
-                                                                  camera_.fov_y))
-                            .index;
+    draw_.highlighted =
+        render::nearest_to_ray(ray_at(cursor_x_, cursor_y_), sim_->state().x,
+                               render::pick_slope(kPickPixels, vp.height, camera_.fov_y))
+            .index;
   }
 
   ImGui_ImplOpenGL3_NewFrame();
@@ -547,8 +560,9 @@ void Viewer::draw_frame() {
   if (o_.panel) draw_panel();
   if (show_help_) draw_help();
   // The keys, along the bottom of the 3D view.
-  ImGui::SetNextWindowPos(ImVec2(static_cast<float>(vp.x) + 8.0f, ImGui::GetIO().DisplaySize.y - 8.0f),
-                          ImGuiCond_Always, ImVec2(0.0f, 1.0f));
+  ImGui::SetNextWindowPos(
+      ImVec2(static_cast<float>(vp.x) + 8.0f, ImGui::GetIO().DisplaySize.y - 8.0f),
+      ImGuiCond_Always, ImVec2(0.0f, 1.0f));
   ImGui::SetNextWindowBgAlpha(0.45f);
   ImGui::Begin("keys", nullptr,
                ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_AlwaysAutoResize |
@@ -660,8 +674,8 @@ int Viewer::run() {
         report["drag"]["target"] = {target.x(), target.y(), target.z()};
         const Vec3 rest = sim_->model().rest_position[dragged];
         report["drag"]["start"] = {rest.x(), rest.y(), rest.z()};
-        std::printf("drag: particle %d held at (%.4f, %.4f, %.4f), %.4f m along the ray\n",
-                    dragged, x.x(), x.y(), x.z(), grab_along_);
+        std::printf("drag: particle %d held at (%.4f, %.4f, %.4f), %.4f m along the ray\n", dragged,
+                    x.x(), x.y(), x.z(), grab_along_);
         release();
       }
       report["frames"] = sim_->frame();

@@ -23,18 +23,18 @@ struct Viewport {
 
 /// A half-line origin + t·direction, t >= 0; direction has unit length.
 struct Ray {
-  Vec3 origin = Vec3::Zero();     ///< m
-  Vec3 direction = Vec3::UnitZ(); ///< unit
+  Vec3 origin = Vec3::Zero();      ///< m
+  Vec3 direction = Vec3::UnitZ();  ///< unit
   Vec3 at(double t) const { return origin + t * direction; }
 };
 
 /// A camera that circles a target point: yaw turns it around the world's +y axis, pitch raises
 /// it above the target's horizontal plane. Angles in radians.
 struct OrbitCamera {
-  glm::dvec3 target{0.0, 1.0, 0.0};  ///< m, the point looked at and orbited
-  double yaw = 0.0;       ///< rad; 0 puts the eye on the +z side looking toward −z
-  double pitch = 0.0;     ///< rad, in (−π/2, π/2); positive looks down from above
-  double distance = 5.0;  ///< m, eye to target, > 0
+  glm::dvec3 target{0.0, 1.0, 0.0};   ///< m, the point looked at and orbited
+  double yaw = 0.0;                   ///< rad; 0 puts the eye on the +z side looking toward −z
+  double pitch = 0.0;                 ///< rad, in (−π/2, π/2); positive looks down from above
+  double distance = 5.0;              ///< m, eye to target, > 0
   double fov_y = 0.7853981633974483;  ///< rad, vertical field of view (45°)
 
   glm::dvec3 eye() const;

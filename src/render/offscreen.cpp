@@ -50,9 +50,13 @@ OffscreenContext::OffscreenContext(int width, int height, int samples)
     }
     config = EGL_NO_CONFIG_KHR;
   }
-  const EGLint context_attribs[] = {EGL_CONTEXT_MAJOR_VERSION, 3, EGL_CONTEXT_MINOR_VERSION, 3,
+  const EGLint context_attribs[] = {EGL_CONTEXT_MAJOR_VERSION,
+                                    3,
+                                    EGL_CONTEXT_MINOR_VERSION,
+                                    3,
                                     EGL_CONTEXT_OPENGL_PROFILE_MASK,
-                                    EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT, EGL_NONE};
+                                    EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT,
+                                    EGL_NONE};
   EGLContext context = eglCreateContext(display, config, EGL_NO_CONTEXT, context_attribs);
   if (context == EGL_NO_CONTEXT) {
     eglTerminate(display);
@@ -86,8 +90,7 @@ OffscreenContext::OffscreenContext(int width, int height, int samples)
   glGenRenderbuffers(1, &resolve_colour_);
   glBindRenderbuffer(GL_RENDERBUFFER, resolve_colour_);
   glRenderbufferStorage(GL_RENDERBUFFER, GL_RGBA8, width, height);
-  glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER,
-                            resolve_colour_);
+  glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, resolve_colour_);
   if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
     throw std::runtime_error("the offscreen resolve framebuffer is incomplete");
   bind();
@@ -106,13 +109,14 @@ OffscreenContext::~OffscreenContext() {
   eglTerminate(display_);
 }
 
-void OffscreenContext::bind() { glBindFramebuffer(GL_FRAMEBUFFER, fbo_); }
+void OffscreenContext::bind() {
+  glBindFramebuffer(GL_FRAMEBUFFER, fbo_);
+}
 
 std::vector<uint8_t> OffscreenContext::read() {
   glBindFramebuffer(GL_READ_FRAMEBUFFER, fbo_);
   glBindFramebuffer(GL_DRAW_FRAMEBUFFER, resolve_fbo_);
-  glBlitFramebuffer(0, 0, width_, height_, 0, 0, width_, height_, GL_COLOR_BUFFER_BIT,
-                    GL_NEAREST);
+  glBlitFramebuffer(0, 0, width_, height_, 0, 0, width_, height_, GL_COLOR_BUFFER_BIT, GL_NEAREST);
   glBindFramebuffer(GL_READ_FRAMEBUFFER, resolve_fbo_);
   std::vector<uint8_t> pixels = read_pixels(rect());
   bind();

@@ -28,7 +28,9 @@ Pick nearest_to_ray(const Ray& ray, std::span<const Vec3> points, double slope);
 double pick_slope(double pixels, double viewport_height, double fov_y);
 
 /// Where a held particle goes: the point at the picked distance along the current ray.
-inline Vec3 drag_target(const Ray& ray, double along) { return ray.at(along); }
+inline Vec3 drag_target(const Ray& ray, double along) {
+  return ray.at(along);
+}
 
 /// The hand's velocity while dragging: the target's displacement over each simulated frame.
 class HandTracker {

@@ -193,9 +193,13 @@ GLuint link(const char* vertex, const char* fragment, const char* name) {
   return program;
 }
 
-GLint loc(GLuint program, const char* name) { return glGetUniformLocation(program, name); }
+GLint loc(GLuint program, const char* name) {
+  return glGetUniformLocation(program, name);
+}
 
-void set(GLuint p, const char* name, const glm::vec3& v) { glUniform3fv(loc(p, name), 1, &v[0]); }
+void set(GLuint p, const char* name, const glm::vec3& v) {
+  glUniform3fv(loc(p, name), 1, &v[0]);
+}
 void set(GLuint p, const char* name, const glm::mat4& m) {
   glUniformMatrix4fv(loc(p, name), 1, GL_FALSE, glm::value_ptr(m));
 }
@@ -353,8 +357,7 @@ bool Renderer::update(const ClothModel& model, const ClothState& state) {
   glBufferData(GL_ARRAY_BUFFER, positions_.size() * sizeof(float), positions_.data(),
                GL_STREAM_DRAW);
   glBindBuffer(GL_ARRAY_BUFFER, cloth_.normal);
-  glBufferData(GL_ARRAY_BUFFER, normals_.size() * sizeof(float), normals_.data(),
-               GL_STREAM_DRAW);
+  glBufferData(GL_ARRAY_BUFFER, normals_.size() * sizeof(float), normals_.data(), GL_STREAM_DRAW);
   glBindVertexArray(0);
   return true;
 }
