@@ -18,6 +18,8 @@
 #include <optional>
 
 #include "app/commands.h"
+#include "app/sim_thread.h"
+#include "app/terminal.h"
 #include "drape/error.h"
 #include "drape/simulation.h"
 #include "io/mesh_export.h"
@@ -97,10 +99,9 @@ class Viewer {
   void on_scroll(double dy);
   void on_key(int key, int action, int mods);
 
-  // Simulation.
-  void rebuild(const SceneDef& def);
+  // Simulation: it runs on its own thread; the window reads snapshots and sends commands.
+  bool rebuild(const SceneDef& def);
   void apply_edit(bool new_cloth);
-  void step_once();
   void open_scene(const std::string& file);
 
   // Drawing.
@@ -112,27 +113,28 @@ class Viewer {
   ViewerOptions o_;
   SceneDef def_;   // what the simulation was built from
   SceneDef edit_;  // what the panel shows and edits
-  std::optional<Simulation> sim_;
+  std::unique_ptr<SimThread> sim_;
+  std::shared_ptr<const SimSnapshot> snap_;   // what is drawn this frame
+  std::shared_ptr<const SimSnapshot> drawn_;  // what the renderer holds
   GLFWwindow* window_ = nullptr;
   bool imgui_ = false;
   std::unique_ptr<render::Renderer> renderer_;
   render::OrbitCamera camera_;
   render::DrawOptions draw_;
-  render::HandTracker hand_;
+  int32_t held_ = -1;  // the particle the mouse holds (the snapshot may not show it yet)
   double grab_along_ = 0.0;
   bool paused_ = false;
-  bool step_request_ = false;
   bool show_help_ = false;
   bool flick_ = false;  // release with the hand's velocity
   bool orbiting_ = false, panning_ = false;
   double cursor_x_ = 0.0, cursor_y_ = 0.0;
-  double sim_ms_ = 0.0;  // smoothed wall time of one simulated frame
   std::string status_, error_;
   std::vector<std::string> scene_files_;
   std::string scene_file_;
 };
 
 Viewer::~Viewer() {
+  sim_.reset();
   renderer_.reset();
   if (imgui_) {
     ImGui_ImplOpenGL3_Shutdown();
@@ -209,7 +211,7 @@ render::Ray Viewer::ray_at(double px, double py) const {
 void Viewer::frame_camera() {
   const render::Viewport vp = viewport();
   const render::OrbitCamera fresh =
-      render::default_camera(sim_->state().x, sim_->colliders(), vp.aspect());
+      render::default_camera(snap_->state.x, snap_->colliders, vp.aspect());
   camera_.target = fresh.target;
   camera_.distance = fresh.distance;
 }
@@ -219,31 +221,28 @@ void Viewer::press(double px, double py, bool ctrl) {
   if (px < vp.x || px >= vp.x + vp.width || py < vp.y || py >= vp.y + vp.height) return;
   const render::Ray ray = ray_at(px, py);
   const render::Pick pick = render::nearest_to_ray(
-      ray, sim_->state().x, render::pick_slope(kPickPixels, vp.height, camera_.fov_y));
+      ray, snap_->state.x, render::pick_slope(kPickPixels, vp.height, camera_.fov_y));
   if (!pick) return;
   if (ctrl) {
-    const bool pinned = sim_->state().pinned[pick.index] != 0;
-    sim_->set_pinned(pick.index, !pinned);
+    const bool pinned = snap_->state.pinned[pick.index] != 0;
+    sim_->toggle_pin(pick.index);
     status_ = (pinned ? "unpinned particle " : "pinned particle ") + std::to_string(pick.index);
     return;
   }
-  sim_->grab(pick.index);
+  held_ = pick.index;
   grab_along_ = pick.along;
-  const Vec3 target = render::drag_target(ray, grab_along_);
-  hand_.start(target);
-  sim_->move_grab(target);
+  sim_->grab(pick.index, render::drag_target(ray, grab_along_));
 }
 
 void Viewer::move(double px, double py) {
-  if (sim_->grabbed() < 0) return;
-  const Vec3 target = render::drag_target(ray_at(px, py), grab_along_);
-  hand_.move(target);
-  sim_->move_grab(target);
+  if (held_ < 0) return;
+  sim_->move_grab(render::drag_target(ray_at(px, py), grab_along_));
 }
 
 void Viewer::release() {
-  if (sim_->grabbed() < 0) return;
-  sim_->release(flick_ ? hand_.velocity() : Vec3::Zero());
+  if (held_ < 0) return;
+  sim_->release(flick_);
+  held_ = -1;
 }
 
 void Viewer::on_mouse_button(int button, int action, int mods) {
@@ -281,7 +280,7 @@ void Viewer::on_key(int key, int action, int /*mods*/) {
       break;
     case GLFW_KEY_N:
       paused_ = true;
-      step_request_ = true;
+      sim_->request_step();
       break;
     case GLFW_KEY_R:
       rebuild(edit_);
@@ -298,7 +297,7 @@ void Viewer::on_key(int key, int action, int /*mods*/) {
     case GLFW_KEY_P: {
       char name[128];
       std::snprintf(name, sizeof name, "drape_%s_%05lld.png", def_.name.c_str(),
-                    static_cast<long long>(sim_->frame()));
+                    static_cast<long long>(snap_->frame));
       status_ = save_screenshot(name);
       break;
     }
@@ -310,28 +309,37 @@ void Viewer::on_key(int key, int action, int /*mods*/) {
   }
 }
 
-void Viewer::rebuild(const SceneDef& def) {
+bool Viewer::rebuild(const SceneDef& def) {
   try {
-    sim_.emplace(def);
+    // Built here, so a refused definition is reported at once; stepped on the thread.
+    auto sim = std::make_unique<Simulation>(def);
+    held_ = -1;
+    if (sim_) {
+      sim_->replace(std::move(sim));
+    } else {
+      sim_ = std::make_unique<SimThread>(std::move(sim), o_.frames == 0);
+    }
     def_ = def;
     edit_ = def;
     error_.clear();
-    hand_.start(Vec3::Zero());
+    if (snap_ && snap_->diverged) paused_ = false;  // the reset the divergence message offers
+    return true;
   } catch (const InputError& e) {
     error_ = e.what();
+    return false;
   }
 }
 
 void Viewer::apply_edit(bool new_cloth) {
+  if (new_cloth) {
+    rebuild(edit_);
+    return;
+  }
   try {
-    // A diverged simulation steps no more: a changed setting (a smaller dt, more substeps)
-    // starts the cloth afresh with it.
-    if (new_cloth || sim_->diverged() || !sim_->reconfigure(edit_)) {
-      rebuild(edit_);
-    } else {
-      def_ = edit_;
-      error_.clear();
-    }
+    check(edit_);  // out-of-range values are refused here; the thread reports the rest
+    sim_->reconfigure(edit_);
+    def_ = edit_;
+    error_.clear();
   } catch (const InputError& e) {
     error_ = e.what();  // the simulation keeps the last good settings
   }
@@ -340,25 +348,16 @@ void Viewer::apply_edit(bool new_cloth) {
 void Viewer::open_scene(const std::string& file) {
   try {
     const SceneDef def = io::load_scene(file);
-    rebuild(def);
-    if (error_.empty()) {
+    if (rebuild(def)) {
       scene_file_ = file;
-      camera_ = render::default_camera(sim_->state().x, sim_->colliders(), viewport().aspect());
+      sim_->sync();  // frame the new cloth, not the old one
+      snap_ = sim_->snapshot();
+      camera_ = render::default_camera(snap_->state.x, snap_->colliders, viewport().aspect());
       glfwSetWindowTitle(window_, ("drape: " + def.name).c_str());
     }
   } catch (const InputError& e) {
     error_ = e.what();
   }
-}
-
-void Viewer::step_once() {
-  using clock = std::chrono::steady_clock;
-  const auto t0 = clock::now();
-  const bool ok = sim_->step();
-  const double ms = std::chrono::duration<double, std::milli>(clock::now() - t0).count();
-  sim_ms_ = sim_ms_ == 0.0 ? ms : 0.9 * sim_ms_ + 0.1 * ms;
-  if (sim_->grabbed() >= 0) hand_.frame_done(def_.solver.dt);
-  if (!ok) paused_ = true;  // the panel says why and offers a reset
 }
 
 void Viewer::draw_panel() {
@@ -382,7 +381,7 @@ void Viewer::draw_panel() {
   ImGui::SameLine();
   if (ImGui::Button("Step")) {
     paused_ = true;
-    step_request_ = true;
+    sim_->request_step();
   }
   ImGui::SameLine();
   if (ImGui::Button("Reset")) rebuild(edit_);
@@ -390,22 +389,24 @@ void Viewer::draw_panel() {
   if (ImGui::Button("Frame")) frame_camera();
 
   // Figures.
-  const Diagnostics d = sim_->diagnostics();
-  ImGui::Text("%.0f frames/s   simulation %.2f ms/frame", io.Framerate, sim_ms_);
-  ImGui::Text("frame %lld   t = %.2f s   %d substeps/frame", static_cast<long long>(sim_->frame()),
-              sim_->time(), sim_->substeps_per_frame());
-  ImGui::Text("%d particles   %zu springs", sim_->model().size(), sim_->model().springs.size());
+  const SimSnapshot& s = *snap_;
+  const Diagnostics& d = s.diagnostics;
+  ImGui::Text("%.0f frames/s   simulation %.2f ms/frame", io.Framerate, s.step_ms);
+  ImGui::Text("frame %lld   t = %.2f s   %d substeps/frame", static_cast<long long>(s.frame),
+              s.time, s.substeps);
+  ImGui::Text("%d particles   %zu springs", s.model->size(), s.model->springs.size());
   ImGui::Text("kinetic energy %.4g J   max strain %.2f%%", d.kinetic_energy, 100.0 * d.max_strain);
-  if (sim_->diverged()) {
+  if (s.diverged) {
     ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(1.0f, 0.35f, 0.3f, 1.0f));
-    ImGui::TextWrapped("Diverged at frame %lld: %s", static_cast<long long>(sim_->diverged_frame()),
-                       sim_->divergence().c_str());
+    ImGui::TextWrapped("Diverged at frame %lld: %s", static_cast<long long>(s.diverged_frame),
+                       s.divergence.c_str());
     ImGui::PopStyleColor();
     if (ImGui::Button("Reset the cloth")) rebuild(edit_);
   }
-  if (!error_.empty()) {
+  for (const std::string* e : {static_cast<const std::string*>(&error_), &s.error}) {
+    if (e->empty()) continue;
     ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(1.0f, 0.6f, 0.2f, 1.0f));
-    ImGui::TextWrapped("%s", error_.c_str());
+    ImGui::TextWrapped("%s", e->c_str());
     ImGui::PopStyleColor();
   }
 
@@ -542,14 +543,14 @@ void Viewer::draw_frame() {
   if (fb_w <= 0 || fb_h <= 0) return;  // minimised
 
   // Hover: the particle a press would pick.
-  draw_.held = sim_->grabbed();
+  draw_.held = held_;
   draw_.highlighted = -1;
   const render::Viewport vp = viewport();
   // A scripted run has no hand on the mouse: wherever the pointer rests, nothing is hovered.
   const bool hand = o_.frames == 0;
   if (hand && draw_.held < 0 && cursor_x_ >= vp.x && !ImGui::GetIO().WantCaptureMouse) {
     draw_.highlighted =
-        render::nearest_to_ray(ray_at(cursor_x_, cursor_y_), sim_->state().x,
+        render::nearest_to_ray(ray_at(cursor_x_, cursor_y_), snap_->state.x,
                                render::pick_slope(kPickPixels, vp.height, camera_.fov_y))
             .index;
   }
@@ -570,7 +571,7 @@ void Viewer::draw_frame() {
                    ImGuiWindowFlags_NoNav | ImGuiWindowFlags_NoInputs);
   ImGui::TextUnformatted(kHelpLine);
   ImGui::End();
-  if (sim_->diverged()) {
+  if (snap_->diverged) {
     // Over the 3D view too, so it is seen with the panel hidden or scrolled.
     ImGui::SetNextWindowPos(ImVec2(static_cast<float>(vp.x + 0.5 * vp.width), 10.0f),
                             ImGuiCond_Always, ImVec2(0.5f, 0.0f));
@@ -579,12 +580,15 @@ void Viewer::draw_frame() {
                      ImGuiWindowFlags_NoMove);
     ImGui::TextColored(ImVec4(1.0f, 0.35f, 0.3f, 1.0f),
                        "The simulation diverged at frame %lld and is paused: R resets it",
-                       static_cast<long long>(sim_->diverged_frame()));
+                       static_cast<long long>(snap_->diverged_frame));
     ImGui::End();
   }
   ImGui::Render();
 
-  renderer_->update(sim_->model(), sim_->state());
+  if (drawn_ != snap_) {  // upload only what changed
+    renderer_->update(*snap_->model, snap_->state);
+    drawn_ = snap_;
+  }
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
   glViewport(0, 0, fb_w, fb_h);
   glClearColor(0.1f, 0.1f, 0.1f, 1.0f);
@@ -594,7 +598,7 @@ void Viewer::draw_frame() {
   const render::PixelRect rect{static_cast<int>(std::lround(vp.x * sx)), 0,
                                std::max(1, static_cast<int>(std::lround(vp.width * sx))),
                                std::max(1, static_cast<int>(std::lround(vp.height * sy)))};
-  renderer_->draw(camera_, rect, sim_->model(), sim_->colliders(), draw_);
+  renderer_->draw(camera_, rect, *snap_->model, snap_->colliders, draw_);
   ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
 }
 
@@ -614,11 +618,11 @@ std::string Viewer::save_screenshot(const std::string& file) {
 }
 
 int Viewer::run() {
-  rebuild(def_);
-  if (!error_.empty()) {
+  if (!rebuild(def_)) {
     std::fprintf(stderr, "drape: error: %s\n", error_.c_str());
     return kExitBadInput;
   }
+  snap_ = sim_->snapshot();
   if (!open()) return kExitNoGraphics;
   std::error_code ec;
   for (const auto& entry : fs::directory_iterator(scenes_dir(), ec))
@@ -626,78 +630,86 @@ int Viewer::run() {
   std::sort(scene_files_.begin(), scene_files_.end());
   for (const std::string& f : scene_files_)
     if (fs::equivalent(f, o_.scene, ec)) scene_file_ = f;
-  camera_ = render::default_camera(sim_->state().x, sim_->colliders(), viewport().aspect());
+  camera_ = render::default_camera(snap_->state.x, snap_->colliders, viewport().aspect());
 
-  // Scripted drag state.
+  // Scripted use: one frame per displayed frame, the drag moving before each.
   const bool scripted = o_.frames > 0;
   int32_t dragged = -1;
-  render::Ray drag_ray;
   nlohmann::json report;
   using clock = std::chrono::steady_clock;
   const auto start = clock::now();
   int64_t shown = 0;
+  install_interrupt_handlers();  // Ctrl+C in the terminal closes the window cleanly
 
   while (!glfwWindowShouldClose(window_)) {
+    if (const int signal = interrupt_signal()) return interrupt_exit_code(signal);
+    snap_ = sim_->snapshot();  // the input handlers pick from it
     glfwPollEvents();
-    if (scripted && o_.drag) {
-      const auto& g = *o_.drag;
-      const int64_t half = std::max<int64_t>(1, o_.frames / 2);
-      const double s = std::min(1.0, double(sim_->frame()) / double(half));
-      if (sim_->frame() == 0 && dragged < 0) {
-        press(g[0], g[1], false);
-        dragged = sim_->grabbed();
-        report["drag"]["picked"] = dragged;
-        report["drag"]["along"] = grab_along_;
+    if (scripted) {
+      if (o_.drag) {
+        const auto& g = *o_.drag;
+        const int64_t half = std::max<int64_t>(1, o_.frames / 2);
+        const double s = std::min(1.0, double(snap_->frame) / double(half));
+        if (snap_->frame == 0 && dragged < 0) {
+          press(g[0], g[1], false);
+          dragged = held_;
+          report["drag"]["picked"] = dragged;
+          report["drag"]["along"] = grab_along_;
+        }
+        move(g[0] + s * (g[2] - g[0]), g[1] + s * (g[3] - g[1]));
       }
-      move(g[0] + s * (g[2] - g[0]), g[1] + s * (g[3] - g[1]));
+      if (!snap_->diverged && snap_->frame < o_.frames) sim_->step_and_wait();
+      snap_ = sim_->snapshot();
+    } else {
+      if (snap_->diverged) paused_ = true;  // the panel says why and offers a reset
+      sim_->set_playing(!paused_);
     }
-    if (!sim_->diverged() && (!paused_ || step_request_) &&
-        (!scripted || sim_->frame() < o_.frames))
-      step_once();
-    step_request_ = false;
     draw_frame();
     ++shown;
 
-    const bool done = scripted && (sim_->frame() >= o_.frames || sim_->diverged());
-    if (done) {
+    if (scripted && (snap_->frame >= o_.frames || snap_->diverged)) {
       const double seconds = std::chrono::duration<double>(clock::now() - start).count();
       if (!o_.screenshot.empty()) save_screenshot(o_.screenshot);
+      const SimSnapshot& s = *snap_;
       if (dragged >= 0) {
-        drag_ray = ray_at((*o_.drag)[2], (*o_.drag)[3]);
-        const Vec3 x = sim_->state().x[dragged];
-        const Vec3 target = render::drag_target(drag_ray, grab_along_);
+        const render::Ray ray = ray_at((*o_.drag)[2], (*o_.drag)[3]);
+        const Vec3 x = s.state.x[dragged];
+        const Vec3 target = render::drag_target(ray, grab_along_);
+        const Vec3 rest = s.model->rest_position[dragged];
         report["drag"]["position"] = {x.x(), x.y(), x.z()};
-        report["drag"]["ray_origin"] = {drag_ray.origin.x(), drag_ray.origin.y(),
-                                        drag_ray.origin.z()};
-        report["drag"]["ray_direction"] = {drag_ray.direction.x(), drag_ray.direction.y(),
-                                           drag_ray.direction.z()};
+        report["drag"]["ray_origin"] = {ray.origin.x(), ray.origin.y(), ray.origin.z()};
+        report["drag"]["ray_direction"] = {ray.direction.x(), ray.direction.y(), ray.direction.z()};
         report["drag"]["target"] = {target.x(), target.y(), target.z()};
-        const Vec3 rest = sim_->model().rest_position[dragged];
         report["drag"]["start"] = {rest.x(), rest.y(), rest.z()};
         std::printf("drag: particle %d held at (%.4f, %.4f, %.4f), %.4f m along the ray\n", dragged,
                     x.x(), x.y(), x.z(), grab_along_);
         release();
       }
-      report["frames"] = sim_->frame();
+      report["frames"] = s.frame;
       report["frames_shown"] = shown;
       report["wall_seconds"] = seconds;
       report["frames_per_second"] = shown / seconds;
-      report["sim_ms_per_frame"] = sim_ms_;
-      report["particles"] = sim_->model().size();
-      report["diverged"] = sim_->diverged();
+      report["sim_ms_per_frame"] = s.step_ms;
+      report["particles"] = s.model->size();
+      report["diverged"] = s.diverged;
       report["renderer"] = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
-      if (!o_.report.empty()) io::write_file_atomically(o_.report, report.dump(2) + "\n");
+      try {
+        if (!o_.report.empty()) io::write_file_atomically(o_.report, report.dump(2) + "\n");
+      } catch (const std::exception& e) {
+        std::fprintf(stderr, "drape: error: %s\n", e.what());
+        return 1;
+      }
       std::printf("%s: %lld frames in %.2f s, %.1f frames/s, simulation %.2f ms/frame\n",
-                  def_.name.c_str(), static_cast<long long>(sim_->frame()), seconds,
-                  shown / seconds, sim_ms_);
+                  def_.name.c_str(), static_cast<long long>(s.frame), seconds, shown / seconds,
+                  s.step_ms);
+      if (s.diverged) {
+        std::fprintf(stderr, "drape: error: diverged at frame %lld: %s\n",
+                     static_cast<long long>(s.diverged_frame), s.divergence.c_str());
+        return kExitDiverged;
+      }
       break;
     }
     glfwSwapBuffers(window_);
-  }
-  if (scripted && sim_->diverged()) {
-    std::fprintf(stderr, "drape: error: diverged at frame %lld: %s\n",
-                 static_cast<long long>(sim_->diverged_frame()), sim_->divergence().c_str());
-    return kExitDiverged;
   }
   return kExitOk;
 }
