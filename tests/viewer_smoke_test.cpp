@@ -12,6 +12,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -201,6 +202,38 @@ TEST_F(ViewerSmoke, ScriptedDragHoldsThePickedParticleOnTheRay) {
   EXPECT_GT(along, 2.0);
   EXPECT_GT(x[0] - start[0], 0.4) << j.dump(2);
   EXPECT_GT(x[1] - start[1], 0.0) << j.dump(2);
+}
+
+TEST_F(ViewerSmoke, VideoFramesArePipedToFfmpeg) {
+  // A stand-in ffmpeg on the PATH records its arguments and the bytes it was sent, so the pipe
+  // is checked whether or not the real one is installed.
+  const fs::path bin = dir_ / "bin";
+  fs::create_directories(bin);
+  {
+    std::ofstream fake(bin / "ffmpeg");
+    fake << "#!/bin/sh\n"
+            "for last in \"$@\"; do :; done\n"
+            "printf '%s\\n' \"$@\" > \"$last.args\"\n"
+            "wc -c > \"$last\"\n";
+  }
+  fs::permissions(bin / "ffmpeg", fs::perms::owner_all);
+  const std::string video = path("it's a clip.mp4");  // a quote and a space survive the shell
+  const Result r =
+      shell("PATH=" + bin.string() + ":$PATH " + DRAPE_EXE + " render " + scene("hang") +
+            " --frames 10 --every 5 --size 64x48 --quiet --video \"" + video + "\"");
+  if (r.code == kNoGraphics) GTEST_SKIP() << "no EGL context: " << r.output;
+  ASSERT_EQ(r.code, 0) << r.output;
+  std::ifstream bytes(video);
+  long long count = 0;
+  bytes >> count;
+  EXPECT_EQ(count, 3LL * 64 * 48 * 4);  // frames 0, 5 and 10 as raw RGBA
+  std::ifstream args(video + ".args");
+  const std::string text((std::istreambuf_iterator<char>(args)), std::istreambuf_iterator<char>());
+  EXPECT_NE(text.find("64x48"), std::string::npos) << text;
+  EXPECT_NE(text.find("rgba"), std::string::npos) << text;
+  EXPECT_NE(text.find("pad=ceil(iw/2)*2:ceil(ih/2)*2"), std::string::npos) << text;
+  EXPECT_NE(text.find("\n12\n"), std::string::npos) << "12 frames/s: 1 / (dt * every)\n" << text;
+  EXPECT_FALSE(fs::exists(path("out"))) << "no PNG folder without --out";
 }
 
 TEST_F(ViewerSmoke, WithoutADisplayTheViewerSaysSoAndExits) {

@@ -5,6 +5,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
@@ -78,17 +79,28 @@ std::string frame_file(const std::string& dir, int64_t frame) {
   return (fs::path(dir) / name).string();
 }
 
+// One shell word, whatever the text holds.
+std::string shell_quote(const std::string& text) {
+  std::string quoted = "'";
+  for (char c : text) quoted += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return quoted + "'";
+}
+
 // Frames go to ffmpeg as raw RGBA on its standard input.
 class VideoPipe {
  public:
   VideoPipe(const std::string& file, int width, int height, double fps) {
-    char command[1024];
+    char format[256];
+    std::snprintf(format, sizeof format, "-f rawvideo -pix_fmt rgba -s %dx%d -r %.6g -i - ", width,
+                  height, fps);
     // yuv420p (what players expect) needs even sizes: pad by a pixel where needed.
-    std::snprintf(command, sizeof command,
-                  "ffmpeg -y -loglevel error -f rawvideo -pix_fmt rgba -s %dx%d -r %.6g -i - "
-                  "-vf pad=ceil(iw/2)*2:ceil(ih/2)*2 -c:v libx264 -pix_fmt yuv420p '%s'",
-                  width, height, fps, file.c_str());
-    pipe_ = popen(command, "w");
+    const std::string command = "ffmpeg -y -loglevel error " + std::string(format) +
+                                "-vf 'pad=ceil(iw/2)*2:ceil(ih/2)*2' -c:v libx264 "
+                                "-pix_fmt yuv420p " +
+                                shell_quote(file);
+    // An ffmpeg that quits early must fail a write, not kill drape with SIGPIPE.
+    std::signal(SIGPIPE, SIG_IGN);
+    pipe_ = popen(command.c_str(), "w");
     if (!pipe_) throw std::runtime_error("cannot start ffmpeg");
   }
   ~VideoPipe() { close(); }
