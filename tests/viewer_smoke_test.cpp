@@ -218,9 +218,9 @@ TEST_F(ViewerSmoke, VideoFramesArePipedToFfmpeg) {
   }
   fs::permissions(bin / "ffmpeg", fs::perms::owner_all);
   const std::string video = path("it's a clip.mp4");  // a quote and a space survive the shell
-  const Result r =
-      shell("PATH=" + bin.string() + ":$PATH " + DRAPE_EXE + " render " + scene("hang") +
-            " --frames 10 --every 5 --size 64x48 --quiet --video \"" + video + "\"");
+  const Result r = shell("cd " + dir_.string() + " && PATH=" + bin.string() + ":$PATH " +
+                         DRAPE_EXE + " render " + scene("hang") +
+                         " --frames 10 --every 5 --size 64x48 --quiet --video \"" + video + "\"");
   if (r.code == kNoGraphics) GTEST_SKIP() << "no EGL context: " << r.output;
   ASSERT_EQ(r.code, 0) << r.output;
   std::ifstream bytes(video);
@@ -233,7 +233,7 @@ TEST_F(ViewerSmoke, VideoFramesArePipedToFfmpeg) {
   EXPECT_NE(text.find("rgba"), std::string::npos) << text;
   EXPECT_NE(text.find("pad=ceil(iw/2)*2:ceil(ih/2)*2"), std::string::npos) << text;
   EXPECT_NE(text.find("\n12\n"), std::string::npos) << "12 frames/s: 1 / (dt * every)\n" << text;
-  EXPECT_FALSE(fs::exists(path("out"))) << "no PNG folder without --out";
+  EXPECT_FALSE(fs::exists(path("out"))) << "no PNG folder in the working folder without --out";
 }
 
 TEST_F(ViewerSmoke, WithoutADisplayTheViewerSaysSoAndExits) {
