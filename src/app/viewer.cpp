@@ -15,7 +15,6 @@
 #include <filesystem>
 #include <memory>
 #include <nlohmann/json.hpp>
-#include <optional>
 
 #include "app/commands.h"
 #include "app/sim_thread.h"
@@ -247,6 +246,7 @@ void Viewer::release() {
 
 void Viewer::on_mouse_button(int button, int action, int mods) {
   const bool ui = ImGui::GetIO().WantCaptureMouse;
+  glfwGetCursorPos(window_, &cursor_x_, &cursor_y_);  // where the press is, moved or not
   if (button == GLFW_MOUSE_BUTTON_LEFT) {
     if (action == GLFW_PRESS && !ui) press(cursor_x_, cursor_y_, mods & GLFW_MOD_CONTROL);
     if (action == GLFW_RELEASE) release();
