@@ -6,7 +6,7 @@ set -euo pipefail
 packages=(
   build-essential cmake ninja-build pkg-config git
   libeigen3-dev nlohmann-json3-dev libcli11-dev libtinyobjloader-dev libstb-dev
-  libgtest-dev libgmock-dev libbenchmark-dev
+  libgtest-dev libgmock-dev libbenchmark-dev clang libclang-rt-dev
   libglfw3-dev libepoxy-dev libglm-dev libimgui-dev
   libegl-dev libegl1 libgl1-mesa-dri libegl-mesa0 libgles-dev xvfb xauth
 )

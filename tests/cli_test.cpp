@@ -182,7 +182,17 @@ INSTANTIATE_TEST_SUITE_P(
                       BadRun{"HANG --seconds -1", "duration"},
                       BadRun{"HANG --every 0", "--every"},
                       BadRun{"HANG --format stl", "--format"},
-                      BadRun{"HANG --no-such-flag", "no-such-flag"}));
+                      BadRun{"HANG --no-such-flag", "no-such-flag"},
+                      // Budgets that protect the machine, lifted only by --force.
+                      BadRun{"HANG --set cloth.resolution=[3000,3000]", "GiB budget"},
+                      BadRun{"HANG --set cloth.resolution=[200000,200000]",
+                             "40000000000 particles"},
+                      BadRun{"HANG --set solver.dt=1e-6 --seconds 86400", "hours of work"},
+                      // Legal-looking but wild values.
+                      BadRun{"HANG --set cloth.springs.structural.stiffness=1e308",
+                             "inf substeps"},
+                      BadRun{"HANG --set solver.dt=1e-320", "solver.dt"},
+                      BadRun{"HANG --set cloth.mass=1e11", "cloth.mass"}));
 
 TEST_F(Cli, DivergenceExitsThreeWithFrameAndHintAndStillWritesStats) {
   const std::string stats = path("d.json");
@@ -197,6 +207,16 @@ TEST_F(Cli, DivergenceExitsThreeWithFrameAndHintAndStillWritesStats) {
   EXPECT_EQ(s["diverged_frame"], 1);
 }
 
+TEST_F(Cli, WildButLegalValuesEndWithinSecondsAsOkOrDiverged) {
+  // Stiffness 1e308 at a fixed substep: forces overflow; the run must stop, not hang or lie.
+  const Result r = drape("run " + scene("hang") +
+                         " --set cloth.springs.structural.stiffness=1e308 --set solver.substeps=1");
+  EXPECT_EQ(r.code, 3) << r.output;
+  EXPECT_NE(r.output.find("diverged at frame"), std::string::npos) << r.output;
+  const Result heavy = drape("run " + scene("sphere") + " --set cloth.mass=1e6 --seconds 1 --quiet");
+  EXPECT_EQ(heavy.code, 0) << heavy.output;
+}
+
 TEST_F(Cli, InterruptFinishesTheFrameWritesStatsAndExits130) {
   const std::string stats = path("i.json");
   const std::string command = std::string(DRAPE_EXE) + " run " + scene("hang") +
@@ -208,6 +228,24 @@ TEST_F(Cli, InterruptFinishesTheFrameWritesStatsAndExits130) {
   const json s = read_json(stats);
   EXPECT_EQ(s["status"], "interrupted");
   EXPECT_GT(s["frames"].get<int>(), 0);
+}
+
+TEST_F(Cli, TerminateKeepsTheExportsSoFarAndExits143) {
+  const std::string out = path("term");
+  const std::string command = std::string(DRAPE_EXE) + " run " + scene("hang") +
+                              " --seconds 1000 --quiet --every 7 --export " + out +
+                              " & pid=$!; sleep 1; kill -TERM $pid; wait $pid";
+  const int status = std::system(("bash -c '" + command + "'").c_str());
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 143);
+  // Whole files only (no .tmp left), frame 0 among them, and the frame it stopped at.
+  int frames = 0;
+  for (const auto& entry : fs::directory_iterator(out)) {
+    EXPECT_EQ(entry.path().extension(), ".obj") << entry.path();
+    ++frames;
+  }
+  EXPECT_GE(frames, 2);
+  EXPECT_TRUE(fs::exists(fs::path(out) / "frame_00000.obj"));
 }
 
 }  // namespace

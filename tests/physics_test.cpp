@@ -3,7 +3,6 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <cstring>
 
 #include "drape/error.h"
 #include "drape/simulation.h"
@@ -186,17 +185,6 @@ TEST_P(WindModels, EdgeOnWindMovesAFlatClothNotAtAll) {
 
 INSTANTIATE_TEST_SUITE_P(Both, WindModels, ::testing::Values(WindModel::seed, WindModel::aero),
                          [](const auto& param_info) { return std::string(to_string(param_info.param)); });
-
-TEST(Determinism, SameSceneTwiceGivesBitIdenticalState) {
-  for (const char* name : {"wind", "sphere"}) {
-    SceneDef def = shipped(name);
-    Simulation a(def), b(def);
-    for (int f = 0; f < 30; ++f) ASSERT_TRUE(a.step() && b.step());
-    const size_t bytes = sizeof(Vec3) * a.state().x.size();
-    EXPECT_EQ(std::memcmp(a.state().x.data(), b.state().x.data(), bytes), 0) << name;
-    EXPECT_EQ(std::memcmp(a.state().v.data(), b.state().v.data(), bytes), 0) << name;
-  }
-}
 
 TEST(Divergence, AnUnstableStepIsCaughtWithinAFrame) {
   SceneDef def = shipped("hang");

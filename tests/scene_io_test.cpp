@@ -145,6 +145,14 @@ TEST(Overrides, SetNestedKeysArrayElementsAndBareWords) {
   EXPECT_EQ(def.name, "windy");
 }
 
+// Found by fuzz/override_fuzz: a bare-word value with invalid UTF-8 made the error message's
+// JSON dump throw a type_error instead of the loader's InputError.
+TEST(Overrides, InvalidUtf8InAValueIsAnInputError) {
+  json j = json::object();
+  io::apply_override(j, "cloth.pins=[\"top-left\",\x9b" "3,-1]]");
+  EXPECT_THROW(io::parse_scene(j, "fuzz.json"), InputError);
+}
+
 TEST(Overrides, MalformedOrImpossibleOnesAreRefused) {
   json j = json::parse(R"({"colliders": [], "cloth": {"mass": 1}})");
   EXPECT_THROW(io::apply_override(j, "novalue"), InputError);

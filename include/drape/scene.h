@@ -79,6 +79,8 @@ struct ColliderDef {
 enum class Method : uint8_t {
   symplectic  ///< semi-implicit Euler with automatic stable substeps (the seed's update)
 };
+/// Every method, in the order tables list them.
+inline constexpr Method kAllMethods[] = {Method::symplectic};
 
 struct SolverDef {
   Method method = Method::symplectic;

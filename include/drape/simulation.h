@@ -23,6 +23,7 @@ struct Diagnostics {
   double kinetic_energy = 0.0;   ///< J
   double max_strain = 0.0;       ///< max |length/rest − 1| over structural springs
   double mean_strain = 0.0;      ///< mean of the same
+  double p99_strain = 0.0;       ///< 99th percentile of the same
   double max_penetration = 0.0;  ///< m, deepest particle inside a collider's surface (0 if none)
   double pinned_drift = 0.0;     ///< m, largest distance of a pinned particle from its anchor
   bool finite = true;            ///< every position and velocity is finite

@@ -13,8 +13,9 @@ inline constexpr int kExitDiverged = 3;
 /// No display (drape view) or no EGL/OpenGL context (drape render) could be had.
 inline constexpr int kExitNoGraphics = 4;
 
-/// Registers `drape run`; the returned function runs it after parsing.
+/// Each registers a subcommand; the returned function runs it if it was given (else -1).
 std::function<int()> add_run_command(CLI::App& app);
+std::function<int()> add_bench_command(CLI::App& app);
 
 /// Registers `drape render` (frames to PNG without a display, through EGL).
 std::function<int()> add_render_command(CLI::App& app);
@@ -26,7 +27,9 @@ std::function<int()> add_view_command(CLI::App& app);
 /// [16, 8192]².
 void parse_size(const std::string& option, const std::string& text, int& width, int& height);
 
-/// The shipped scenes' folder: $DRAPE_SCENES, else ./scenes, else the source tree's.
-std::string scenes_dir();
+/// A data folder shipped with drape ("scenes", "bench"): $DRAPE_SCENES or $DRAPE_BENCH, else
+/// the folder of that name in the working directory, else the source tree's.
+std::string data_dir(const std::string& name);
+inline std::string scenes_dir() { return data_dir("scenes"); }
 
 }  // namespace drape::app

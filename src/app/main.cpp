@@ -11,11 +11,13 @@
 
 namespace drape::app {
 
-std::string scenes_dir() {
-  if (const char* env = std::getenv("DRAPE_SCENES")) return env;
+std::string data_dir(const std::string& name) {
+  std::string env_name = "DRAPE_" + name;
+  for (char& c : env_name) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+  if (const char* env = std::getenv(env_name.c_str())) return env;
   std::error_code ec;
-  if (std::filesystem::is_directory("scenes", ec)) return "scenes";
-  return DRAPE_SCENES_DIR;
+  if (std::filesystem::is_directory(name, ec)) return name;
+  return std::string(DRAPE_SOURCE_DIR) + "/" + name;
 }
 
 void parse_size(const std::string& option, const std::string& text, int& width, int& height) {
@@ -37,7 +39,7 @@ int main(int argc, char** argv) {
   CLI::App app("drape: a fast, stable cloth simulator (mass-spring)", "drape");
   app.set_version_flag("--version", DRAPE_VERSION);
   app.require_subcommand(1);
-  std::vector<std::function<int()>> commands{add_run_command(app)};
+  std::vector<std::function<int()>> commands{add_run_command(app), add_bench_command(app)};
 #ifdef DRAPE_HAVE_VIEWER
   commands.push_back(add_view_command(app));
 #endif

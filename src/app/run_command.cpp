@@ -6,7 +6,9 @@
 #include <string>
 #include <vector>
 
+#ifdef _OPENMP
 #include <omp.h>
+#endif
 
 #include "app/commands.h"
 #include "app/runner.h"
@@ -58,7 +60,9 @@ std::string frame_file(const std::string& dir, int64_t frame, const std::string&
 }
 
 int run(const RunOptions& o) {
+#ifdef _OPENMP
   if (o.threads > 0) omp_set_num_threads(o.threads);
+#endif
   std::vector<std::string> sets = o.sets;
   if (o.seconds) sets.push_back("duration=" + std::to_string(*o.seconds));
 
@@ -71,7 +75,9 @@ int run(const RunOptions& o) {
     frames = frame_count(def);
     const auto t0 = clock::now();
     try {
+      if (!o.force) check_memory(def);
       sim.emplace(def);
+      if (!o.force) check_work(*sim, frames);
     } catch (const InputError& e) {
       throw InputError(o.scene + ": " + e.path(), e.problem());
     }
@@ -171,7 +177,9 @@ std::function<int()> add_run_command(CLI::App& app) {
   cmd->add_option("--threads", o->threads, "Threads to use (default: all cores)")
       ->check(CLI::Range(1, 1024));
   cmd->add_flag("--quiet", o->quiet, "No progress bar and no summary");
-  cmd->add_flag("--force", o->force, "Export into a folder that holds an earlier run's frames");
+  cmd->add_flag("--force", o->force,
+                "Run beyond the memory and work budgets, and export into a folder that holds an "
+                "earlier run's frames");
   return [cmd, o] { return cmd->parsed() ? run(*o) : -1; };
 }
 

@@ -6,6 +6,7 @@
 #include <cstdio>
 
 #include "app/terminal.h"
+#include "drape/error.h"
 
 namespace drape::app {
 
@@ -62,6 +63,34 @@ RunResult run_frames(Simulation& sim, int64_t frames, const RunHooks& hooks) {
   bar.finish();
   r.wall_seconds = std::chrono::duration<double>(clock::now() - start).count();
   return r;
+}
+
+void check_memory(const SceneDef& def, const Budget& budget) {
+  const int64_t particles = int64_t{def.cloth.cols} * int64_t{def.cloth.rows};
+  const int64_t bytes = particles * kBytesPerParticle;
+  if (bytes <= budget.bytes) return;
+  char problem[256];
+  std::snprintf(problem, sizeof problem,
+                "%dx%d is %lld particles, about %.1f GiB, more than the %.1f GiB budget; "
+                "lower the resolution, or pass --force to run it anyway",
+                def.cloth.cols, def.cloth.rows, static_cast<long long>(particles),
+                static_cast<double>(bytes) / (1 << 30),
+                static_cast<double>(budget.bytes) / (1 << 30));
+  throw InputError("cloth.resolution", problem);
+}
+
+void check_work(const Simulation& sim, int64_t frames, const Budget& budget) {
+  const double updates = static_cast<double>(frames) * sim.substeps_per_frame() *
+                         static_cast<double>(sim.model().size() + sim.model().springs.size());
+  if (updates <= budget.updates) return;
+  char problem[320];
+  std::snprintf(problem, sizeof problem,
+                "%lld frames of %d substeps over %d particles and %zu springs is %.3g updates, "
+                "hours of work (the budget is %.3g); shorten the duration, raise solver.dt, "
+                "or pass --force to run it anyway",
+                static_cast<long long>(frames), sim.substeps_per_frame(), sim.model().size(),
+                sim.model().springs.size(), updates, budget.updates);
+  throw InputError("duration", problem);
 }
 
 nlohmann::json stats_json(const Simulation& sim, const RunResult& run) {

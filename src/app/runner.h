@@ -36,6 +36,21 @@ struct RunHooks {
 /// frame under way is finished first).
 RunResult run_frames(Simulation& sim, int64_t frames, const RunHooks& hooks);
 
+/// What a command may spend unless --force is given: memory for the cloth, and work for the
+/// run. Both protect a shared machine from a typo (resolution [20000, 20000], dt = 1e-6 s for a
+/// day) that would otherwise swap or run for hours.
+struct Budget {
+  int64_t bytes = int64_t{2} << 30;  ///< estimated memory of state, springs and solver
+  double updates = 3e11;  ///< frames × substeps × (particles + springs): about an hour at 10 ns
+};
+/// Rough bytes per particle: state, rest shape, about six springs, triangles, solver workspace.
+inline constexpr int64_t kBytesPerParticle = 1024;
+
+/// Throws InputError (at cloth.resolution) if the cloth would not fit the budget.
+void check_memory(const SceneDef& def, const Budget& budget = {});
+/// Throws InputError (at duration) if `frames` frames of `sim` would exceed the budget.
+void check_work(const Simulation& sim, int64_t frames, const Budget& budget = {});
+
 /// The stats other tools read (keys documented in the README).
 nlohmann::json stats_json(const Simulation& sim, const RunResult& run);
 

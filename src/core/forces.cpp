@@ -93,7 +93,12 @@ void apply_drag(double air_drag, const std::vector<double>& inv_mass, double dt,
   if (air_drag == 0.0) return;
   const int32_t n = static_cast<int32_t>(v.size());
 #pragma omp parallel for schedule(static) if (worth_threads(n))
-  for (int32_t i = 0; i < n; ++i) v[i] /= 1.0 + dt * air_drag * inv_mass[i] * v[i].norm();
+  for (int32_t i = 0; i < n; ++i) {
+    // A speed whose norm overflows is left alone for the divergence check to see: dividing by
+    // an infinite norm would quietly zero it.
+    const double speed = v[i].norm();
+    if (std::isfinite(speed)) v[i] /= 1.0 + dt * air_drag * inv_mass[i] * speed;
+  }
 }
 
 double kinetic_energy(const ClothModel& model, const std::vector<Vec3>& v) {

@@ -1,5 +1,6 @@
 #include "drape/simulation.h"
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -88,16 +89,22 @@ bool Simulation::step() {
 Diagnostics Simulation::diagnostics() const {
   Diagnostics d;
   d.kinetic_energy = forces::kinetic_energy(model_, state_.v);
-  int64_t structural = 0;
+  std::vector<double> strains;
+  strains.reserve(model_.springs.size() / 2);
   double strain_sum = 0.0;
   for (const Spring& s : model_.springs) {
     if (s.kind != SpringKind::structural) continue;
     const double strain = std::abs((state_.x[s.j] - state_.x[s.i]).norm() / s.rest - 1.0);
     d.max_strain = std::max(d.max_strain, strain);
     strain_sum += strain;
-    ++structural;
+    strains.push_back(strain);
   }
-  d.mean_strain = structural > 0 ? strain_sum / static_cast<double>(structural) : 0.0;
+  if (!strains.empty()) {
+    d.mean_strain = strain_sum / static_cast<double>(strains.size());
+    const size_t k = std::min(strains.size() - 1, static_cast<size_t>(0.99 * strains.size()));
+    std::nth_element(strains.begin(), strains.begin() + k, strains.end());
+    d.p99_strain = strains[k];
+  }
   d.max_penetration = max_penetration(colliders_, state_.x);
   for (int32_t i = 0; i < model_.size(); ++i) {
     if (state_.pinned[i])

@@ -16,11 +16,19 @@ using nlohmann::json;
 
 namespace {
 
+// JSON text for messages, cut to a readable length. Replaces invalid UTF-8 (a bare-word --set
+// value can hold any bytes) instead of throwing.
+std::string show(const json& j) {
+  std::string text = j.dump(-1, ' ', false, json::error_handler_t::replace);
+  if (text.size() > 60) text = text.substr(0, 57) + "...";
+  return text;
+}
+
 std::string type_name(const json& j) {
   if (j.is_number_integer()) return "an integer";
   if (j.is_number()) return "a number";
-  if (j.is_string()) return "a string " + j.dump();
-  if (j.is_boolean()) return j.dump();
+  if (j.is_string()) return "a string " + show(j);
+  if (j.is_boolean()) return show(j);
   if (j.is_null()) return "null";
   if (j.is_array()) return "an array";
   return "an object";
@@ -127,19 +135,19 @@ class Reader {
   }
   static int as_integer(const json& v, const std::string& path) {
     const double x = as_number(v, path);
-    if (x != std::floor(x)) fail(path, "expected an integer, got " + v.dump());
-    if (std::abs(x) > 1e9) fail(path, v.dump() + " is too large (at most 1e9)");
+    if (x != std::floor(x)) fail(path, "expected an integer, got " + show(v));
+    if (std::abs(x) > 1e9) fail(path, show(v) + " is too large (at most 1e9)");
     return static_cast<int>(x);
   }
   static Vec3 as_vec3(const json& v, const std::string& path) {
     if (!v.is_array() || v.size() != 3)
-      fail(path, "expected an array of 3 numbers [x, y, z], got " + v.dump());
+      fail(path, "expected an array of 3 numbers [x, y, z], got " + show(v));
     return {as_number(v[0], path + "[0]"), as_number(v[1], path + "[1]"),
             as_number(v[2], path + "[2]")};
   }
   static void pair(const json& v, const std::string& path, const char* form) {
     if (!v.is_array() || v.size() != 2)
-      fail(path, std::string("expected an array of 2 ") + form + ", got " + v.dump());
+      fail(path, std::string("expected an array of 2 ") + form + ", got " + show(v));
   }
 
  private:
@@ -302,7 +310,8 @@ SceneDef parse_scene(const json& j, const std::string& source) {
     }
     if (const json* sj = top.find("solver")) {
       Reader r(*sj, "solver");
-      r.choice("method", def.solver.method, {Method::symplectic});
+      r.choice("method", def.solver.method,
+               std::vector<Method>(std::begin(kAllMethods), std::end(kAllMethods)));
       r.number("dt", def.solver.dt);
       r.integer("substeps", def.solver.substeps);
       r.number("safety", def.solver.safety);

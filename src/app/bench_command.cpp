@@ -1,0 +1,265 @@
+// `drape bench`: the standard benchmark. Runs bench/scenes at several sizes, methods and thread
+// counts, and reports speed beside quality: a fast run that stretches like rubber does not
+// count.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
+#include "app/commands.h"
+#include "app/runner.h"
+#include "app/terminal.h"
+#include "drape/error.h"
+#include "io/mesh_export.h"
+#include "io/scene_io.h"
+
+namespace drape::app {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+struct BenchOptions {
+  std::vector<std::string> scenes{"hang", "hang-lr", "drape"};
+  std::vector<int> sizes{32, 64, 128, 256};
+  std::vector<std::string> methods;  // empty: all
+  std::vector<int> threads{1, 2};
+  int frames = 300;
+  double max_updates = 3e10;  // skip runs estimated above this (about five minutes)
+  std::string out = "bench-results";
+};
+
+// The quality bar a run must meet to count.
+constexpr double kMaxStrain = 0.01;        // structural strain, max over the last second and last
+constexpr double kMaxPenetration = 0.01;   // fraction of the sphere's radius
+constexpr int kLastSecondFrames = 60;
+
+struct Row {
+  std::string scene, method, status = "ok";
+  int n = 0, threads = 0, substeps = 0;
+  int64_t particles = 0, frames = 0;
+  double setup_ms = 0, ms_median = 0, ms_p10 = 0, ms_p90 = 0, rate = 0;
+  double strain_last_second = 0, strain_last = 0, strain_p99 = 0, penetration = 0;
+  bool on_sphere = true, quality = false;
+};
+
+double percentile(std::vector<double> v, double q) {
+  if (v.empty()) return 0.0;
+  const size_t k = std::min(v.size() - 1, static_cast<size_t>(q * (v.size() - 1) + 0.5));
+  std::nth_element(v.begin(), v.begin() + k, v.end());
+  return v[k];
+}
+
+// Touching the sphere (within 1% of its radius of the contact distance) and not slid off it.
+bool rests_on(const Simulation& sim, const Collider& sphere) {
+  double closest = 1e300;
+  Vec3 centroid = Vec3::Zero(), n;
+  for (const Vec3& x : sim.state().x) {
+    closest = std::min(closest, signed_distance(sphere, x, n) - sphere.thickness);
+    centroid += x;
+  }
+  centroid /= sim.model().size();
+  const Vec3 offset = centroid - sphere.center;
+  const double horizontal = std::hypot(offset.x(), offset.z());
+  return closest <= kMaxPenetration * sphere.radius && horizontal < sphere.radius;
+}
+
+Row bench_one(const BenchOptions& o, const std::string& scene, int n, const std::string& method,
+              int threads) {
+  Row row;
+  row.scene = scene;
+  row.n = n;
+  row.method = method;
+  row.threads = threads;
+#ifdef _OPENMP
+  omp_set_num_threads(threads);
+#endif
+  const bool long_range = scene == "hang-lr";
+  const std::string file = data_dir("bench") + "/scenes/" + (long_range ? "hang" : scene) + ".json";
+  std::vector<std::string> sets = {"cloth.resolution=[" + std::to_string(n) + "," +
+                                       std::to_string(n) + "]",
+                                   "solver.method=" + method};
+  if (long_range) sets.push_back("cloth.long_range=true");
+  std::optional<Simulation> sim;
+  try {
+    const SceneDef def = io::load_scene(file, sets);
+    const auto t0 = std::chrono::steady_clock::now();
+    sim.emplace(def);
+    row.setup_ms =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    row.particles = sim->model().size();
+    row.substeps = sim->substeps_per_frame();
+    Budget budget;
+    budget.updates = o.max_updates;
+    check_work(*sim, o.frames, budget);
+  } catch (const InputError& e) {
+    row.status = std::string("skipped: ") + e.problem().substr(0, e.problem().find(';'));
+    return row;
+  }
+
+  RunHooks hooks;
+  hooks.after_frame = [&](const Simulation& s) {
+    if (s.frame() > o.frames - kLastSecondFrames)
+      row.strain_last_second = std::max(row.strain_last_second, s.diagnostics().max_strain);
+  };
+  const RunResult r = run_frames(*sim, o.frames, hooks);
+  const Diagnostics d = sim->diagnostics();
+  row.frames = r.frames;
+  row.ms_median = r.median_ms();
+  row.ms_p10 = percentile(r.frame_ms, 0.1);
+  row.ms_p90 = percentile(r.frame_ms, 0.9);
+  row.rate = row.ms_median > 0 ? row.particles * row.substeps / (row.ms_median * 1e-3) : 0.0;
+  row.strain_last = d.max_strain;
+  row.strain_p99 = d.p99_strain;
+  row.penetration = d.max_penetration;
+  for (const Collider& c : sim->colliders()) {
+    if (c.type != ColliderType::sphere) continue;
+    row.on_sphere = row.on_sphere && rests_on(*sim, c);
+    row.penetration = d.max_penetration / c.radius;  // as a fraction of the radius
+  }
+  if (r.status != RunStatus::ok) row.status = to_string(r.status);
+  row.quality = row.status == "ok" && d.finite && row.strain_last_second <= kMaxStrain &&
+                row.strain_last <= kMaxStrain && row.penetration <= kMaxPenetration &&
+                row.on_sphere;
+  return row;
+}
+
+void print_table(const std::vector<Row>& rows) {
+  std::printf("%-8s %5s %-11s %3s %8s %10s %9s %12s %8s %8s %8s %8s %s\n", "scene", "N", "method",
+              "thr", "substeps", "ms/frame", "p10-p90", "part·sub/s", "strain1s", "strain", "p99",
+              "penetr.", "quality");
+  for (const Row& r : rows) {
+    if (r.status.rfind("skipped", 0) == 0) {
+      std::printf("%-8s %5d %-11s %3d  %s\n", r.scene.c_str(), r.n, r.method.c_str(), r.threads,
+                  r.status.c_str());
+      continue;
+    }
+    char spread[32];
+    std::snprintf(spread, sizeof spread, "%.2f-%.2f", r.ms_p10, r.ms_p90);
+    std::printf("%-8s %5d %-11s %3d %8d %10.3f %9s %12.3g %7.2f%% %7.2f%% %7.2f%% %7.2f%% %s\n",
+                r.scene.c_str(), r.n, r.method.c_str(), r.threads, r.substeps, r.ms_median, spread,
+                r.rate, 100 * r.strain_last_second, 100 * r.strain_last, 100 * r.strain_p99,
+                100 * r.penetration,
+                r.quality ? "yes" : (r.status == "ok" ? "no" : r.status.c_str()));
+  }
+}
+
+nlohmann::json to_json(const Row& r) {
+  return {{"scene", r.scene},
+          {"n", r.n},
+          {"method", r.method},
+          {"threads", r.threads},
+          {"status", r.status},
+          {"particles", r.particles},
+          {"substeps_per_frame", r.substeps},
+          {"frames", r.frames},
+          {"setup_ms", r.setup_ms},
+          {"ms_per_frame_median", r.ms_median},
+          {"ms_per_frame_p10", r.ms_p10},
+          {"ms_per_frame_p90", r.ms_p90},
+          {"particle_substeps_per_second", r.rate},
+          {"max_strain_last_second", r.strain_last_second},
+          {"max_strain", r.strain_last},
+          {"p99_strain", r.strain_p99},
+          {"penetration_fraction_of_radius", r.penetration},
+          {"on_sphere", r.on_sphere},
+          {"quality", r.quality}};
+}
+
+void write_results(const std::string& dir, const std::vector<Row>& rows) {
+  fs::create_directories(dir);
+  nlohmann::json all = nlohmann::json::array();
+  std::string csv;
+  for (const Row& r : rows) {
+    const nlohmann::json j = to_json(r);
+    all.push_back(j);
+    if (csv.empty()) {
+      for (auto it = j.begin(); it != j.end(); ++it) csv += (csv.empty() ? "" : ",") + it.key();
+      csv += "\n";
+    }
+    std::string line;
+    for (auto it = j.begin(); it != j.end(); ++it)
+      line += (line.empty() ? "" : ",") + (it->is_string() ? it->get<std::string>() : it->dump());
+    csv += line + "\n";
+  }
+  io::write_file_atomically((fs::path(dir) / "bench.json").string(), all.dump(2) + "\n");
+  io::write_file_atomically((fs::path(dir) / "bench.csv").string(), csv);
+}
+
+int bench(BenchOptions o) {
+  if (o.methods.empty())
+    for (Method m : kAllMethods) o.methods.push_back(to_string(m));
+  for (const std::string& name : o.methods) {
+    const bool known = std::any_of(std::begin(kAllMethods), std::end(kAllMethods),
+                                   [&](Method m) { return name == to_string(m); });
+    if (!known) {
+      std::fprintf(stderr, "drape: error: --methods: unknown method \"%s\"\n", name.c_str());
+      return kExitBadInput;
+    }
+  }
+  for (const std::string& s : o.scenes) {
+    if (s != "hang" && s != "hang-lr" && s != "drape") {
+      std::fprintf(stderr, "drape: error: --scenes: unknown scene \"%s\"; expected hang, hang-lr "
+                           "or drape\n", s.c_str());
+      return kExitBadInput;
+    }
+  }
+  install_interrupt_handlers();
+  std::vector<Row> rows;
+  const int64_t total = static_cast<int64_t>(o.scenes.size() * o.sizes.size() * o.methods.size() *
+                                             o.threads.size());
+  Progress bar("bench", total, true);
+  for (const std::string& scene : o.scenes)
+    for (int n : o.sizes)
+      for (const std::string& method : o.methods)
+        for (int t : o.threads) {
+          if (interrupt_signal()) break;
+          bar.update(static_cast<int64_t>(rows.size()),
+                     scene + "-" + std::to_string(n) + " " + method + " " + std::to_string(t) +
+                         " thread(s)");
+          rows.push_back(bench_one(o, scene, n, method, t));
+        }
+  bar.finish();
+  print_table(rows);
+  try {
+    write_results(o.out, rows);
+    std::printf("results written to %s/bench.json and %s/bench.csv\n", o.out.c_str(),
+                o.out.c_str());
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "drape: error: %s\n", e.what());
+    return 1;
+  }
+  if (int s = interrupt_signal()) return interrupt_exit_code(s);
+  return kExitOk;
+}
+
+}  // namespace
+
+std::function<int()> add_bench_command(CLI::App& app) {
+  auto o = std::make_shared<BenchOptions>();
+  CLI::App* cmd = app.add_subcommand(
+      "bench", "Time the standard scenes (bench/scenes) at several sizes, methods and threads");
+  cmd->add_option("--scenes", o->scenes, "Scenes: hang, hang-lr (long-range attachments), drape")
+      ->delimiter(',');
+  cmd->add_option("--sizes", o->sizes, "Grid sizes N (N×N particles)")
+      ->delimiter(',')
+      ->check(CLI::Range(2, 4096));
+  cmd->add_option("--methods", o->methods, "Methods (default: all)")->delimiter(',');
+  cmd->add_option("--threads", o->threads, "Thread counts")->delimiter(',')->check(CLI::Range(1, 256));
+  cmd->add_option("--frames", o->frames, "Frames per run")->check(CLI::Range(1, 1000000));
+  cmd->add_option("--max-updates", o->max_updates,
+                  "Skip runs whose frames × substeps × (particles + springs) exceed this")
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--out", o->out, "Folder for bench.json and bench.csv");
+  return [cmd, o] { return cmd->parsed() ? bench(*o) : -1; };
+}
+
+}  // namespace drape::app
