@@ -1,8 +1,9 @@
 // drape: a cloth simulator. `drape run SCENE` simulates headless; `drape --help` lists the rest.
+#include <algorithm>
+#include <cctype>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
-#include <regex>
 #include <string>
 #include <vector>
 
@@ -21,11 +22,15 @@ std::string data_dir(const std::string& name) {
 }
 
 void parse_size(const std::string& option, const std::string& text, int& width, int& height) {
-  static const std::regex pattern(R"(\s*(\d{1,5})\s*[xX]\s*(\d{1,5})\s*)");
-  std::smatch m;
-  if (std::regex_match(text, m, pattern)) {
-    width = std::stoi(m[1]);
-    height = std::stoi(m[2]);
+  // Digits, an x, digits: nothing before, between or after.
+  const size_t x = text.find_first_of("xX");
+  auto digits = [](const std::string& t) {
+    return !t.empty() && t.size() <= 5 &&
+           std::all_of(t.begin(), t.end(), [](unsigned char c) { return std::isdigit(c); });
+  };
+  if (x != std::string::npos && digits(text.substr(0, x)) && digits(text.substr(x + 1))) {
+    width = std::stoi(text.substr(0, x));
+    height = std::stoi(text.substr(x + 1));
     if (width >= 16 && height >= 16 && width <= 8192 && height <= 8192) return;
   }
   throw InputError(option,
