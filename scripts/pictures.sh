@@ -1,0 +1,26 @@
+#!/usr/bin/env bash
+# Remakes the README's pictures in docs/ with drape itself: the viewer (under xvfb-run when no
+# display is set) and two `drape render` frames. Run after scripts/build.sh.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+drape=./build/drape
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+
+display=()
+[ -n "${DISPLAY:-}" ] || display=(xvfb-run -a -s "-screen 0 1280x1024x24")
+
+# The viewer on the default scene, its bottom-right corner pulled toward the eye (a scripted
+# drag: press on the corner's pixel at the start, drag up and right, hold).
+"${display[@]}" "$drape" view scenes/hang.json --frames 120 --size 1100x650 \
+  --drag 921,552,1040,420 --screenshot docs/viewer.png
+
+"$drape" render scenes/wind.json --frames 150 --every 150 --size 800x450 --yaw -35 --pitch 12 \
+  --zoom 1 --quiet --out "$tmp/wind"
+cp "$tmp/wind/frame_00150.png" docs/wind.png
+
+"$drape" render scenes/sphere.json --frames 150 --every 150 --size 800x450 --pitch 2 --zoom 3 \
+  --quiet --out "$tmp/sphere"
+cp "$tmp/sphere/frame_00150.png" docs/sphere.png
+
+ls -l docs/*.png

@@ -1,0 +1,99 @@
+// `drape view [SCENE]`: the interactive viewer (see app/viewer.h), and its scripted form used by
+// the smoke tests and for screenshots: --frames N --screenshot FILE [--drag x0,y0,x1,y1].
+#include <array>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "app/commands.h"
+#include "app/viewer.h"
+#include "drape/error.h"
+#include "io/scene_io.h"
+
+namespace drape::app {
+
+namespace {
+
+struct ViewCommandOptions {
+  std::string scene;
+  std::vector<std::string> sets;
+  std::string size = "1280x720";
+  int64_t frames = 0;
+  std::string screenshot;
+  std::string report;
+  std::string drag;
+  bool no_vsync = false;
+  bool no_panel = false;
+};
+
+std::array<double, 4> parse_drag(const std::string& text) {
+  std::array<double, 4> v{};
+  std::istringstream in(text);
+  char comma = 0;
+  if (in >> v[0] >> comma && comma == ',' && in >> v[1] >> comma && comma == ',' &&
+      in >> v[2] >> comma && comma == ',' && in >> v[3] && (in >> std::ws).eof())
+    return v;
+  throw InputError("--drag", "\"" + text + "\" is not four window coordinates x0,y0,x1,y1");
+}
+
+int view(const ViewCommandOptions& c) {
+  ViewerOptions o;
+  o.scene =
+      c.scene.empty() ? (std::filesystem::path(scenes_dir()) / "hang.json").string() : c.scene;
+  o.sets = c.sets;
+  o.vsync = !c.no_vsync && c.frames == 0;  // scripted runs go as fast as they can
+  o.panel = !c.no_panel;
+  o.frames = c.frames;
+  o.screenshot = c.screenshot;
+  o.report = c.report;
+  SceneDef def;
+  try {
+    parse_size("--size", c.size, o.width, o.height);
+    if (!c.drag.empty()) o.drag = parse_drag(c.drag);
+    if ((!o.screenshot.empty() || o.drag || !o.report.empty()) && o.frames <= 0)
+      throw InputError("--frames", "--screenshot, --drag and --report need --frames N (N > 0)");
+    def = io::load_scene(o.scene, o.sets);
+  } catch (const InputError& e) {
+    std::fprintf(stderr, "drape: error: %s\n", e.what());
+    return kExitBadInput;
+  }
+  const char* x11 = std::getenv("DISPLAY");
+  const char* wayland = std::getenv("WAYLAND_DISPLAY");
+  if ((!x11 || !*x11) && (!wayland || !*wayland)) {
+    std::fprintf(stderr,
+                 "drape view: no display (DISPLAY is not set); draw pictures without one with "
+                 "`drape render %s`, or run the viewer under `xvfb-run -a drape view`\n",
+                 o.scene.c_str());
+    return kExitNoGraphics;
+  }
+  return run_viewer(o, def);
+}
+
+}  // namespace
+
+std::function<int()> add_view_command(CLI::App& app) {
+  auto o = std::make_shared<ViewCommandOptions>();
+  CLI::App* cmd = app.add_subcommand("view", "Open the interactive viewer on a scene");
+  cmd->add_option("scene", o->scene, "Scene file (JSON); default: the shipped scenes/hang.json");
+  cmd->add_option("--set", o->sets, "Override a scene key: KEY=VALUE, e.g. cloth.mass=2")
+      ->take_all()
+      ->allow_extra_args(false);
+  cmd->add_option("--size", o->size, "Window size WIDTHxHEIGHT")->capture_default_str();
+  cmd->add_option("--frames", o->frames, "Run this many frames, then exit (scripted use)")
+      ->check(CLI::Range(int64_t{1}, int64_t{1} << 40));
+  cmd->add_option("--screenshot", o->screenshot, "With --frames: save the last frame as PNG");
+  cmd->add_option("--report", o->report,
+                  "With --frames: write frame rate and drag figures as JSON");
+  cmd->add_option("--drag", o->drag,
+                  "With --frames: press at x0,y0, drag to x1,y1 (window units), hold to the end");
+  cmd->add_flag("--no-vsync", o->no_vsync, "Draw as fast as possible");
+  cmd->add_flag("--no-panel", o->no_panel, "Hide the control panel");
+  return [cmd, o] { return cmd->parsed() ? view(*o) : -1; };
+}
+
+}  // namespace drape::app
