@@ -33,8 +33,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-// The solver methods the panel offers; a new method is one more entry here.
-constexpr Method kMethods[] = {Method::symplectic};
 constexpr WindModel kWindModels[] = {WindModel::seed, WindModel::aero};
 
 constexpr float kPanelWidth = 360.0f;    // screen units
@@ -413,7 +411,7 @@ void Viewer::draw_panel() {
   bool live = false, new_cloth = false;
   if (ImGui::CollapsingHeader("Solver", ImGuiTreeNodeFlags_DefaultOpen)) {
     if (ImGui::BeginCombo("method", to_string(edit_.solver.method))) {
-      for (Method m : kMethods)
+      for (Method m : kAllMethods)
         if (ImGui::Selectable(to_string(m), m == edit_.solver.method)) {
           edit_.solver.method = m;
           live = true;
