@@ -98,12 +98,14 @@ struct SolverDef {
   double safety = 0.9;     ///< fraction of the stability bound used by automatic substeps
   int max_substeps = 10000;  ///< automatic substeps above this are refused
   /// xpbd: constraint iterations per substep; fast: local/global iterations per substep;
-  /// 0 = the method's default (xpbd 1, fast 10). In [0, 10000].
+  /// 0 = the method's default (xpbd 1; fast: from the Chebyshev estimate, 10..200).
+  /// In [0, 10000].
   int iterations = 0;
   double cg_tolerance = 1e-5;   ///< implicit: CG stops at this relative residual, in (0, 1)
   int cg_max_iterations = 400;  ///< implicit: CG iteration cap per substep, in [1, 100000]
-  /// fast: spectral radius estimate for Chebyshev acceleration (Wang 2015), in [0, 1); 0 = off.
-  double chebyshev_rho = 0.9;
+  /// fast: spectral radius estimate for Chebyshev acceleration (Wang 2015), in [0, 1);
+  /// 0 = automatic (from stiffness, mass and step).
+  double chebyshev_rho = 0.0;
 };
 
 struct SceneDef {

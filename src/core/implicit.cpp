@@ -7,6 +7,13 @@
 // directions are removed from the system rather than penalised. A compressed spring's
 // stiffness block drops its negative transverse term (forces::spring_stiffness with clamp) so
 // the system matrix stays symmetric positive definite and CG applies.
+//
+// Contacts are constraints of the same solve (B&W §5.3–5.4): a particle that would move into a
+// collider this substep has its normal velocity prescribed (to arrive at the surface, or to stay
+// on it) and only its tangential directions are solved for, so its neighbours' springs see
+// where it really goes. Projecting positions after a large step instead would stretch stiff
+// springs by up to h²·g per step and pump energy into them. Friction then acts on the
+// tangential velocity with the normal velocity change as the Coulomb bound.
 #include <algorithm>
 #include <cmath>
 
@@ -23,7 +30,10 @@ class Implicit final : public Solver {
  public:
   void prepare(const World& w, const SolverDef& def) override {
     const int32_t n = w.model.size();
-    for (auto* v : {&rhs_, &dv_, &r_, &s_, &c_, &q_}) v->assign(n, Vec3::Zero());
+    for (auto* v : {&rhs_, &force_, &dv_, &r_, &s_, &c_, &q_, &contact_n_})
+      v->assign(n, Vec3::Zero());
+    contact_dvn_.assign(n, 0.0);
+    contact_mu_.assign(n, 0.0);
     block_.assign(w.model.springs.size(), Mat3::Zero());
     diag_.assign(n, Mat3::Zero());
     precond_.assign(n, Mat3::Zero());
@@ -40,9 +50,13 @@ class Implicit final : public Solver {
     for (int k = 0; k < substeps_; ++k) {
       assemble(w, h, w.time + k * h);
       last_iterations_ = solve(w.model, s);
-      // Newton update, then drag (semi-implicit, stable at any h) and the drift.
+      // Newton update with contact friction, then drag (semi-implicit, stable at any h) and
+      // the drift.
 #pragma omp parallel for schedule(static) if (worth_threads(n))
-      for (int32_t i = 0; i < n; ++i) s.v[i] += dv_[i];
+      for (int32_t i = 0; i < n; ++i) {
+        s.v[i] += dv_[i];
+        if (contact_dvn_[i] > 0.0) apply_friction(contact_n_[i], contact_dvn_[i], contact_mu_[i], s.v[i]);
+      }
       forces::apply_drag(w.forces.air_drag, s.inv_mass, h, s.v);
 #pragma omp parallel for schedule(static) if (worth_threads(n))
       for (int32_t i = 0; i < n; ++i) s.x[i] += h * s.v[i];
@@ -64,20 +78,19 @@ class Implicit final : public Solver {
     const bool wind = w.forces.wind.strength > 0.0 && w.forces.wind.coefficient > 0.0;
 #pragma omp parallel for schedule(static) if (worth_threads(n))
     for (int32_t i = 0; i < n; ++i) {
-      rhs_[i] = m.mass[i] * w.forces.gravity;  // external forces, times h below
+      force_[i] = m.mass[i] * w.forces.gravity;
       diag_[i] = m.mass[i] * Mat3::Identity();
     }
     if (wind) {
       update_normals(m, s);
-      forces::add_wind(m, s, w.forces.wind, t, rhs_);
+      forces::add_wind(m, s, w.forces.wind, t, force_);
     }
-    // The external part (gravity, wind) of the first guess Δv = h·f_ext/m and its size, the
-    // floor of the CG stopping test.
+    // The external impulse h·f_ext starts the right-hand side; its M⁻¹-norm is the floor of
+    // the CG stopping test.
     ext_norm2_ = deterministic_sum(n, [&](int64_t i) {
-      rhs_[i] *= h;
-      const double wi = s.inv_mass[i];
-      dv_[i] = wi * rhs_[i];
-      return wi * rhs_[i].squaredNorm();
+      rhs_[i] = h * force_[i];
+      dv_[i] = s.inv_mass[i] * rhs_[i];  // the first guess, before contacts filter it
+      return s.inv_mass[i] * rhs_[i].squaredNorm();
     });
     const double h2 = h * h;
     for (int c = 0; c < m.colours(); ++c) {
@@ -96,14 +109,39 @@ class Implicit final : public Solver {
         const Vec3 bi = h * fi - h2 * (K * (s.v[sp.i] - s.v[sp.j]));
         rhs_[sp.i] += bi;
         rhs_[sp.j] -= bi;
+        force_[sp.i] += fi;
+        force_[sp.j] -= fi;
         diag_[sp.i] += block_[k];
         diag_[sp.j] += block_[k];
       }
     }
-    // Filtering: a constrained particle's preconditioner block is zero (see the file comment).
+    // Contacts, the filter S (I, I − nnᵀ or 0), the preconditioner S·P⁻¹·S (zero in the
+    // constrained directions, so CG never moves along them) and the first guess
+    // Δv = z + S·h·f_ext/m, z the prescribed normal velocity change (exact in free fall).
 #pragma omp parallel for schedule(static) if (worth_threads(n))
-    for (int32_t i = 0; i < n; ++i)
-      precond_[i] = s.inv_mass[i] > 0.0 ? Mat3(diag_[i].inverse()) : Mat3::Zero();
+    for (int32_t i = 0; i < n; ++i) {
+      contact_dvn_[i] = 0.0;
+      if (s.inv_mass[i] == 0.0) {
+        precond_[i].setZero();
+        dv_[i].setZero();
+        continue;
+      }
+      precond_[i] = diag_[i].inverse();
+      const Vec3 predicted = s.v[i] + dv_[i];  // with the external forces only
+      for (const Collider& col : w.colliders) {
+        Vec3 nrm;
+        const double gap = signed_distance(col, s.x[i], nrm) - col.thickness;
+        const double target = -std::max(gap, 0.0) / h;  // normal velocity that just arrives
+        if (predicted.dot(nrm) >= target) continue;
+        const Mat3 S = Mat3::Identity() - nrm * nrm.transpose();
+        precond_[i] = S * precond_[i] * S;
+        dv_[i] = S * dv_[i] + (target - s.v[i].dot(nrm)) * nrm;
+        contact_n_[i] = nrm;
+        contact_dvn_[i] = target - predicted.dot(nrm);
+        contact_mu_[i] = col.friction;
+        break;  // one contact per particle: the first collider it would enter
+      }
+    }
   }
 
   // q = A·p = M·p + Σ_s D_s·(p_i − p_j) on i, the opposite on j.
@@ -161,7 +199,10 @@ class Implicit final : public Solver {
   int max_iterations_ = 400;
   int last_iterations_ = 0;
   double ext_norm2_ = 0.0;
-  std::vector<Vec3> rhs_, dv_, r_, s_, c_, q_;
+  std::vector<Vec3> rhs_, force_, dv_, r_, s_, c_, q_;
+  std::vector<Vec3> contact_n_;      // outward normal of the particle's contact
+  std::vector<double> contact_dvn_;  // its normal velocity change (m/s), 0 = no contact
+  std::vector<double> contact_mu_;   // its friction coefficient
   std::vector<Mat3> block_;    // per spring: h²K + h·C
   std::vector<Mat3> diag_;     // per particle: the system matrix's diagonal block
   std::vector<Mat3> precond_;  // its inverse, zero on constrained particles

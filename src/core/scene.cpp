@@ -140,7 +140,7 @@ void check(const SceneDef& def) {
   require(s.cg_max_iterations >= 1 && s.cg_max_iterations <= 100000, "solver.cg_max_iterations",
           "is " + std::to_string(s.cg_max_iterations) + ", must be in [1, 100000]");
   range(s.chebyshev_rho, 0.0, 1.0, "solver.chebyshev_rho");
-  require(s.chebyshev_rho < 1.0, "solver.chebyshev_rho", "must be below 1 (0 = off)");
+  require(s.chebyshev_rho < 1.0, "solver.chebyshev_rho", "must be below 1 (0 = automatic)");
   range(def.duration, 0.0, 1e7, "duration");
 }
 
