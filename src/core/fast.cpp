@@ -91,7 +91,9 @@ class Fast final : public Solver {
     // the inertial target y would not do: h²k ≫ m, so stiff springs overrule it.
     double k_max = 0.0;
     for (const Spring& s : m.springs) k_max = std::max(k_max, s.stiffness);
-    contact_weight_ = w.colliders.empty() ? 0.0 : kContactWeight * h_ * h_ * k_max;
+    // Long-range attachments join the same term: p is also moved inside each pin's limit.
+    contact_weight_ =
+        w.colliders.empty() && !attachments_.active() ? 0.0 : kContactWeight * h_ * h_ * k_max;
     for (int32_t i = 0; i < n; ++i)
       if (free_[i] >= 0 && contact_weight_ > 0.0)
         t.emplace_back(free_[i], free_[i], contact_weight_);
@@ -191,8 +193,13 @@ class Fast final : public Solver {
         }
       }
       b0_[i] = m.mass[i] * y_[i];
-      xk_[i] = y_[i];
-      xkm1_[i] = y_[i];
+      // The iterations start from x₀ + h·v₀, not from y: then a state at rest is a fixed point
+      // of the step only where the forces balance, whatever the iteration count, so the
+      // static shape is the true equilibrium (starting from y, the unconverged part of the
+      // h²·g pull would leave a bias that sags further). Free fall stays exact: the first
+      // global step reaches y.
+      xk_[i] = free_[i] >= 0 ? Vec3(s.x[i] + h_ * s.v[i]) : s.x[i];
+      xkm1_[i] = xk_[i];
     }
     const double h = h_, h2 = h_ * h_;
     for (int c = 0; c < m.colours(); ++c) {
@@ -214,12 +221,14 @@ class Fast final : public Solver {
   // b₀ + h²·J·d, then gathered into the permuted unknowns.
   void local_and_rhs(const ClothModel& m, const std::vector<Collider>& colliders, double h2) {
     const int32_t n = m.size();
-    // Contact term w·|x − p|² (see prepare): p is x_k moved out of the colliders.
+    // Contact term w·|x − p|² (see prepare): p is x_k moved inside the attachments' limits
+    // and out of the colliders.
 #pragma omp parallel for schedule(static) if (worth_threads(n))
     for (int32_t i = 0; i < n; ++i) {
       rhs_[i] = b0_[i];
       if (contact_weight_ == 0.0 || free_[i] < 0) continue;
       Vec3 p = xk_[i], nrm;
+      attachments_.project(m, xk_, i, p);
       for (const Collider& col : colliders) project_out(col, p, nrm);
       rhs_[i] += contact_weight_ * p;
     }

@@ -13,7 +13,9 @@
 // on it) and only its tangential directions are solved for, so its neighbours' springs see
 // where it really goes. Projecting positions after a large step instead would stretch stiff
 // springs by up to h²·g per step and pump energy into them. Friction then acts on the
-// tangential velocity with the normal velocity change as the Coulomb bound.
+// tangential velocity with the normal velocity change as the Coulomb bound. Long-range
+// attachments at their limit are constrained the same way (without friction), up to two
+// constraints per particle; the projection after the step catches the rest.
 #include <algorithm>
 #include <cmath>
 
@@ -100,10 +102,7 @@ class Implicit final : public Solver {
         const Spring& sp = m.springs[k];
         const Vec3 &xi = s.x[sp.i], &xj = s.x[sp.j];
         const Mat3 K = forces::spring_stiffness(xi, xj, sp.stiffness, sp.rest, true);
-        const Vec3 d = xj - xi;
-        const double len2 = d.squaredNorm();
-        const Mat3 C = len2 > 0.0 ? Mat3(sp.damping / len2 * (d * d.transpose())) : Mat3::Zero();
-        block_[k] = h2 * K + h * C;
+        block_[k] = forces::implicit_spring_block(xi, xj, sp.stiffness, sp.rest, sp.damping, h);
         const Vec3 fi = forces::spring_elastic(xi, xj, sp.stiffness, sp.rest) +
                         forces::spring_damping(xi, xj, s.v[sp.i], s.v[sp.j], sp.damping);
         const Vec3 bi = h * fi - h2 * (K * (s.v[sp.i] - s.v[sp.j]));
@@ -121,6 +120,7 @@ class Implicit final : public Solver {
 #pragma omp parallel for schedule(static) if (worth_threads(n))
     for (int32_t i = 0; i < n; ++i) {
       contact_dvn_[i] = 0.0;
+      contact_mu_[i] = 0.0;
       if (s.inv_mass[i] == 0.0) {
         precond_[i].setZero();
         dv_[i].setZero();
@@ -128,19 +128,51 @@ class Implicit final : public Solver {
       }
       precond_[i] = diag_[i].inverse();
       const Vec3 predicted = s.v[i] + dv_[i];  // with the external forces only
+      // Up to two constraints the particle would violate this substep: colliders (normal
+      // outward, gap to the thickness), then long-range limits (normal toward the pin, gap
+      // to the limit). A particle below two pins is usually at both limits at once.
+      Vec3 nrm[2];
+      double target[2] = {0.0, 0.0};
+      int count = 0;
+      auto consider = [&](const Vec3& n_out, double gap, double mu) {
+        const double t_n = -std::max(gap, 0.0) / h;  // normal velocity that just arrives
+        if (count == 2 || predicted.dot(n_out) >= t_n) return;
+        if (count == 0 || contact_dvn_[i] == 0.0) {  // friction: the first collider's
+          contact_n_[i] = n_out;
+          contact_dvn_[i] = mu > 0.0 ? t_n - predicted.dot(n_out) : 0.0;
+          contact_mu_[i] = mu;
+        }
+        nrm[count] = n_out;
+        target[count] = t_n;
+        ++count;
+      };
       for (const Collider& col : w.colliders) {
-        Vec3 nrm;
-        const double gap = signed_distance(col, s.x[i], nrm) - col.thickness;
-        const double target = -std::max(gap, 0.0) / h;  // normal velocity that just arrives
-        if (predicted.dot(nrm) >= target) continue;
-        const Mat3 S = Mat3::Identity() - nrm * nrm.transpose();
-        precond_[i] = S * precond_[i] * S;
-        dv_[i] = S * dv_[i] + (target - s.v[i].dot(nrm)) * nrm;
-        contact_n_[i] = nrm;
-        contact_dvn_[i] = target - predicted.dot(nrm);
-        contact_mu_[i] = col.friction;
-        break;  // one contact per particle: the first collider it would enter
+        Vec3 n_out;
+        const double gap = signed_distance(col, s.x[i], n_out) - col.thickness;
+        consider(n_out, gap, col.friction);
       }
+      for (const int32_t a : attachments_.pins()) {
+        const Vec3 d = s.x[a] - s.x[i];
+        const double len = d.norm();
+        if (len > 0.0) consider(d / len, attachments_.limit(m, i, a) - len, 0.0);
+      }
+      if (count == 0) continue;
+      // Filter S = I − e₁e₁ᵀ − e₂e₂ᵀ over an orthonormal basis of the constrained normals, and
+      // the constrained part of Δv that meets both prescribed normal velocities
+      // ((v + Δv)·n_k = target_k; the system is triangular in that basis).
+      const Vec3 e1 = nrm[0];
+      Vec3 e2 = Vec3::Zero();
+      if (count == 2) {
+        const Vec3 r2 = nrm[1] - nrm[1].dot(e1) * e1;
+        if (r2.norm() > 1e-6) e2 = r2.normalized();
+      }
+      const Mat3 S = Mat3::Identity() - e1 * e1.transpose() - e2 * e2.transpose();
+      const double a1 = target[0] - s.v[i].dot(nrm[0]);
+      const double a2 = e2.squaredNorm() > 0.0
+                            ? (target[1] - s.v[i].dot(nrm[1]) - a1 * e1.dot(nrm[1])) / e2.dot(nrm[1])
+                            : 0.0;
+      precond_[i] = S * precond_[i] * S;
+      dv_[i] = S * dv_[i] + a1 * e1 + a2 * e2;
     }
   }
 

@@ -18,14 +18,11 @@ void LongRange::apply(const ClothModel& model, ClothState& state, bool fix_veloc
   const int32_t n = model.size();
   const int64_t work = int64_t{n} * static_cast<int64_t>(pins_.size());
   // Pins hold inverse mass 0, so reading x[a] while other threads write x[p] is no race.
-  // The rest distance along a flat grid is the straight line between rest positions (the
-  // geodesic of a flat rectangle), so it is computed here rather than stored per pair.
 #pragma omp parallel for schedule(static) if (worth_threads(work))
   for (int32_t p = 0; p < n; ++p) {
     if (state.inv_mass[p] == 0.0) continue;
     for (const int32_t a : pins_) {
-      const double limit = scale_ * (model.rest_position[p] - model.rest_position[a]).norm();
-      const Vec3 u = project_attachment(state.x[a], limit, state.x[p]);
+      const Vec3 u = project_attachment(state.x[a], limit(model, p, a), state.x[p]);
       if (fix_velocity) clamp_outward_velocity(u, state.v[p]);
     }
   }

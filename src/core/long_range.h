@@ -5,6 +5,7 @@
 // own weight at any stiffness, iteration count or step, for the cost of one pass.
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -43,6 +44,18 @@ class LongRange {
   /// `fix_velocity`, removes the outward velocity along each limit it hit. In parallel over
   /// particles; deterministic.
   void apply(const ClothModel& model, ClothState& state, bool fix_velocity) const;
+  /// Projects one position xp of free particle p onto its limits (pins at x), in the same order.
+  void project(const ClothModel& model, const std::vector<Vec3>& x, int32_t p, Vec3& xp) const {
+    for (const int32_t a : pins_) project_attachment(x[a], limit(model, p, a), xp);
+  }
+  /// The pinned particles, in order.
+  const std::vector<int32_t>& pins() const { return pins_; }
+  /// The largest distance allowed between particle p and pin a, m.
+  double limit(const ClothModel& model, int32_t p, int32_t a) const {
+    // The rest distance along a flat grid is the straight line between rest positions (the
+    // geodesic of a flat rectangle), so it is computed here rather than stored per pair.
+    return scale_ * (model.rest_position[p] - model.rest_position[a]).norm();
+  }
 
  private:
   std::vector<int32_t> pins_;
