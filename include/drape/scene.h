@@ -102,7 +102,7 @@ struct SolverDef {
   /// In [0, 10000].
   int iterations = 0;
   double cg_tolerance = 1e-5;   ///< implicit: CG stops at this relative residual, in (0, 1)
-  int cg_max_iterations = 400;  ///< implicit: CG iteration cap per substep, in [1, 100000]
+  int cg_max_iterations = 2000;  ///< implicit: CG iteration cap per substep, in [1, 100000]
   /// fast: spectral radius estimate for Chebyshev acceleration (Wang 2015), in [0, 1);
   /// 0 = automatic (from stiffness, mass and step).
   double chebyshev_rho = 0.0;

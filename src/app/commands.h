@@ -14,6 +14,9 @@ inline constexpr int kExitDiverged = 3;
 /// Registers `drape run`; the returned function runs it after parsing.
 std::function<int()> add_run_command(CLI::App& app);
 
+/// Registers `drape compare`: one scene with each method, a table side by side.
+std::function<int()> add_compare_command(CLI::App& app);
+
 /// The shipped scenes' folder: $DRAPE_SCENES, else ./scenes, else the source tree's.
 std::string scenes_dir();
 

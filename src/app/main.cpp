@@ -22,13 +22,14 @@ int main(int argc, char** argv) {
   app.set_version_flag("--version", DRAPE_VERSION);
   app.require_subcommand(1);
   const auto run = add_run_command(app);
+  const auto compare = add_compare_command(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     const int code = app.exit(e);
     return code == 0 ? 0 : kExitBadInput;
   }
-  for (const auto& command : {run}) {
+  for (const auto& command : {run, compare}) {
     const int code = command();
     if (code >= 0) return code;
   }

@@ -228,7 +228,7 @@ class Implicit final : public Solver {
 
   int substeps_ = 1;
   double tolerance_ = 1e-5;
-  int max_iterations_ = 400;
+  int max_iterations_ = 2000;
   int last_iterations_ = 0;
   double ext_norm2_ = 0.0;
   std::vector<Vec3> rhs_, force_, dv_, r_, s_, c_, q_;
