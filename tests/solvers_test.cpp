@@ -52,8 +52,8 @@ TEST(XpbdDistance, ZeroComplianceSatisfiesTheConstraintAndConservesMomentum) {
   for (int seed = 1; seed <= 10; ++seed) {
     const Vec3 xi = random_vec(seed), xj = random_vec(seed + 50);
     const double mi = 0.5 + 0.1 * seed, mj = 2.0 - 0.1 * seed, rest = 0.2 + 0.05 * seed;
-    const DistanceCorrection d = xpbd_distance(xi, 1.0 / mi, xj, 1.0 / mj, rest, 0.0, 0.0,
-                                               Vec3::Zero(), Vec3::Zero(), 0.0);
+    const DistanceCorrection d =
+        xpbd_distance(xi, 1.0 / mi, xj, 1.0 / mj, rest, 0.0, 0.0, Vec3::Zero(), Vec3::Zero(), 0.0);
     // One projection of a single rigid constraint meets it exactly (up to round-off).
     EXPECT_NEAR(((xj + d.dxj) - (xi + d.dxi)).norm(), rest, 1e-14);
     // Corrections weighted by inverse mass: m_i·Δx_i + m_j·Δx_j = 0 (no momentum change).
@@ -67,8 +67,8 @@ TEST(XpbdDistance, ComplianceGivesTheClosedFormCorrection) {
   const Vec3 xi(0.0, 0.0, 0.0), xj(1.5, 0.0, 0.0);
   const double k = 100.0, h = 0.01, m = 0.02, rest = 1.0;
   const double alpha_tilde = 1.0 / (k * h * h);
-  const DistanceCorrection d = xpbd_distance(xi, 0.0, xj, 1.0 / m, rest, alpha_tilde, 0.0,
-                                             Vec3::Zero(), Vec3::Zero(), 0.0);
+  const DistanceCorrection d =
+      xpbd_distance(xi, 0.0, xj, 1.0 / m, rest, alpha_tilde, 0.0, Vec3::Zero(), Vec3::Zero(), 0.0);
   const double c = 0.5;
   const double left = c * alpha_tilde / (1.0 / m + alpha_tilde);
   EXPECT_EQ(d.dxi, Vec3::Zero());
@@ -128,10 +128,12 @@ TEST(ImplicitStep, SpringBlockMatchesFiniteDifferencesOfTheForcesOnStretchedSpri
       xm[a] -= eps;
       vp[a] += eps;
       vm[a] -= eps;
-      const Vec3 dfdx = (forces::spring_elastic(xp, xj, k, rest) -
-                         forces::spring_elastic(xm, xj, k, rest)) / (2 * eps);
-      const Vec3 dfdv = (forces::spring_damping(xi, xj, vp, vj, c) -
-                         forces::spring_damping(xi, xj, vm, vj, c)) / (2 * eps);
+      const Vec3 dfdx =
+          (forces::spring_elastic(xp, xj, k, rest) - forces::spring_elastic(xm, xj, k, rest)) /
+          (2 * eps);
+      const Vec3 dfdv =
+          (forces::spring_damping(xi, xj, vp, vj, c) - forces::spring_damping(xi, xj, vm, vj, c)) /
+          (2 * eps);
       const Vec3 expected = -(h * h * dfdx + h * dfdv);
       EXPECT_LT((block.col(a) - expected).norm(), 1e-7 * (1.0 + expected.norm()))
           << "seed " << seed << " column " << a;
@@ -148,7 +150,9 @@ TEST(ImplicitStep, SpringBlockOfACompressedSpringStaysPositiveSemiDefinite) {
 
 // ---- Every new method -----------------------------------------------------------------------
 
-std::string method_name(const ::testing::TestParamInfo<Method>& p) { return to_string(p.param); }
+std::string method_name(const ::testing::TestParamInfo<Method>& p) {
+  return to_string(p.param);
+}
 
 class EachMethod : public ::testing::TestWithParam<Method> {};
 
@@ -331,8 +335,8 @@ TEST(StaticEquilibrium, FourCornerSagMatchesSymplecticWithEveryMethod) {
   double peak_sag = 0.0;
   for (const Vec3& x : reference) peak_sag = std::max(peak_sag, 1.0 - x.y());
   ASSERT_GT(peak_sag, 0.05);
-  for (auto [method, substeps] : {std::pair{Method::implicit, 0}, std::pair{Method::fast, 0},
-                                  std::pair{Method::xpbd, 200}}) {
+  for (auto [method, substeps] :
+       {std::pair{Method::implicit, 0}, std::pair{Method::fast, 0}, std::pair{Method::xpbd, 200}}) {
     const std::vector<Vec3> x = rest_shape(method, substeps);
     double worst = 0.0;
     for (size_t i = 0; i < x.size(); ++i) worst = std::max(worst, (x[i] - reference[i]).norm());
@@ -430,11 +434,13 @@ TEST(SolverKeys, BadValuesNameTheFieldAndTheProblem) {
   };
   EXPECT_NE(error([](json& j) { j["cloth"]["long_range"] = "yes"; }).find("cloth.long_range"),
             std::string::npos);
-  EXPECT_NE(error([](json& j) { j["cloth"]["long_range"] = json{{"slak", 0.1}}; })
-                .find("did you mean \"slack\""),
+  EXPECT_NE(error([](json& j) {
+              j["cloth"]["long_range"] = json{{"slak", 0.1}};
+            }).find("did you mean \"slack\""),
             std::string::npos);
-  EXPECT_NE(error([](json& j) { j["cloth"]["long_range"] = json{{"slack", -1}}; })
-                .find("cloth.long_range.slack"),
+  EXPECT_NE(error([](json& j) {
+              j["cloth"]["long_range"] = json{{"slack", -1}};
+            }).find("cloth.long_range.slack"),
             std::string::npos);
   EXPECT_NE(error([](json& j) { j["solver"]["cg_tolerance"] = 0; }).find("solver.cg_tolerance"),
             std::string::npos);

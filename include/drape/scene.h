@@ -101,7 +101,7 @@ struct SolverDef {
   /// 0 = the method's default (xpbd 1; fast: from the Chebyshev estimate, 10..200).
   /// In [0, 10000].
   int iterations = 0;
-  double cg_tolerance = 1e-5;   ///< implicit: CG stops at this relative residual, in (0, 1)
+  double cg_tolerance = 1e-5;    ///< implicit: CG stops at this relative residual, in (0, 1)
   int cg_max_iterations = 2000;  ///< implicit: CG iteration cap per substep, in [1, 100000]
   /// fast: spectral radius estimate for Chebyshev acceleration (Wang 2015), in [0, 1);
   /// 0 = automatic (from stiffness, mass and step).

@@ -48,9 +48,9 @@ std::string number(const char* format, double x) {
 }
 
 void print_table(const std::vector<Row>& rows, bool markdown) {
-  const std::vector<std::string> head{"method",     "ms/frame", "substeps", "max strain",
-                                      "mean strain", "kinetic J", "penetration m", "finite",
-                                      "status"};
+  const std::vector<std::string> head{"method",        "ms/frame",    "substeps",
+                                      "max strain",    "mean strain", "kinetic J",
+                                      "penetration m", "finite",      "status"};
   std::vector<std::vector<std::string>> cells;
   for (const Row& r : rows) {
     const bool ran = r.status.rfind("refused", 0) != 0;
@@ -141,9 +141,8 @@ int compare(const CompareOptions& o) {
     row.substeps = sim->substeps_per_frame();
     row.d = sim->diagnostics();
     row.status = run.status == RunStatus::ok ? "ok"
-                 : sim->diverged()           ? "diverged at frame " +
-                                         std::to_string(sim->diverged_frame())
-                                             : "interrupted";
+                 : sim->diverged() ? "diverged at frame " + std::to_string(sim->diverged_frame())
+                                   : "interrupted";
     rows.push_back(row);
     if (run.status == RunStatus::interrupted) break;
   }

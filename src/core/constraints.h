@@ -19,8 +19,7 @@ struct DistanceCorrection {
 /// the multiplier accumulated so far this substep (0 on the first iteration).
 inline DistanceCorrection xpbd_distance(const Vec3& xi, double wi, const Vec3& xj, double wj,
                                         double rest, double alpha_tilde, double gamma,
-                                        const Vec3& moved_i, const Vec3& moved_j,
-                                        double lambda) {
+                                        const Vec3& moved_i, const Vec3& moved_j, double lambda) {
   DistanceCorrection out;
   const double w = wi + wj;
   const Vec3 d = xj - xi;

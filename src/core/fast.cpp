@@ -56,10 +56,10 @@ class Fast final : public Solver {
     rho_ = def.chebyshev_rho > 0.0 ? def.chebyshev_rho : estimate_rho(w, h_);
     // Chebyshev's error falls by about 1 − sqrt(1 − ρ²) per iteration: enough iterations for
     // e^-2 of the slowest error, at least 10 (Liu et al.'s choice), at most 200.
-    iterations_ = def.iterations > 0 ? def.iterations
-                                     : std::clamp(static_cast<int>(std::ceil(
-                                                      2.0 / std::sqrt(1.0 - rho_ * rho_))),
-                                                  kDefaultIterations, 200);
+    iterations_ = def.iterations > 0
+                      ? def.iterations
+                      : std::clamp(static_cast<int>(std::ceil(2.0 / std::sqrt(1.0 - rho_ * rho_))),
+                                   kDefaultIterations, 200);
     attachments_.prepare(m, w.state, w.long_range);
 
     // Free particles are the unknowns.
@@ -157,7 +157,9 @@ class Fast final : public Solver {
     update_normals(m, s);
   }
 
-  int substeps() const override { return substeps_; }
+  int substeps() const override {
+    return substeps_;
+  }
 
  private:
   // 1. Drag (semi-implicit, on v₀), the inertial target y, and the constant part of the
@@ -316,6 +318,8 @@ class Fast final : public Solver {
 
 }  // namespace
 
-std::unique_ptr<Solver> make_fast() { return std::make_unique<Fast>(); }
+std::unique_ptr<Solver> make_fast() {
+  return std::make_unique<Fast>();
+}
 
 }  // namespace drape

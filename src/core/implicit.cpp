@@ -57,7 +57,8 @@ class Implicit final : public Solver {
 #pragma omp parallel for schedule(static) if (worth_threads(n))
       for (int32_t i = 0; i < n; ++i) {
         s.v[i] += dv_[i];
-        if (contact_dvn_[i] > 0.0) apply_friction(contact_n_[i], contact_dvn_[i], contact_mu_[i], s.v[i]);
+        if (contact_dvn_[i] > 0.0)
+          apply_friction(contact_n_[i], contact_dvn_[i], contact_mu_[i], s.v[i]);
       }
       forces::apply_drag(w.forces.air_drag, s.inv_mass, h, s.v);
 #pragma omp parallel for schedule(static) if (worth_threads(n))
@@ -68,7 +69,9 @@ class Implicit final : public Solver {
     update_normals(w.model, s);
   }
 
-  int substeps() const override { return substeps_; }
+  int substeps() const override {
+    return substeps_;
+  }
 
  private:
   // 1. The right-hand side b = h·f₀ − h²·K·v₀ (K = −∂f/∂x, clamped), each spring's system
@@ -168,9 +171,10 @@ class Implicit final : public Solver {
       }
       const Mat3 S = Mat3::Identity() - e1 * e1.transpose() - e2 * e2.transpose();
       const double a1 = target[0] - s.v[i].dot(nrm[0]);
-      const double a2 = e2.squaredNorm() > 0.0
-                            ? (target[1] - s.v[i].dot(nrm[1]) - a1 * e1.dot(nrm[1])) / e2.dot(nrm[1])
-                            : 0.0;
+      const double a2 =
+          e2.squaredNorm() > 0.0
+              ? (target[1] - s.v[i].dot(nrm[1]) - a1 * e1.dot(nrm[1])) / e2.dot(nrm[1])
+              : 0.0;
       precond_[i] = S * precond_[i] * S;
       dv_[i] = S * dv_[i] + a1 * e1 + a2 * e2;
     }
@@ -235,14 +239,16 @@ class Implicit final : public Solver {
   std::vector<Vec3> contact_n_;      // outward normal of the particle's contact
   std::vector<double> contact_dvn_;  // its normal velocity change (m/s), 0 = no contact
   std::vector<double> contact_mu_;   // its friction coefficient
-  std::vector<Mat3> block_;    // per spring: h²K + h·C
-  std::vector<Mat3> diag_;     // per particle: the system matrix's diagonal block
-  std::vector<Mat3> precond_;  // its inverse, zero on constrained particles
+  std::vector<Mat3> block_;          // per spring: h²K + h·C
+  std::vector<Mat3> diag_;           // per particle: the system matrix's diagonal block
+  std::vector<Mat3> precond_;        // its inverse, zero on constrained particles
   LongRange attachments_;
 };
 
 }  // namespace
 
-std::unique_ptr<Solver> make_implicit() { return std::make_unique<Implicit>(); }
+std::unique_ptr<Solver> make_implicit() {
+  return std::make_unique<Implicit>();
+}
 
 }  // namespace drape

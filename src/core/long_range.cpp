@@ -4,8 +4,7 @@
 
 namespace drape {
 
-void LongRange::prepare(const ClothModel& model, const ClothState& state,
-                        const LongRangeDef& def) {
+void LongRange::prepare(const ClothModel& model, const ClothState& state, const LongRangeDef& def) {
   pins_.clear();
   scale_ = 1.0 + def.slack;
   if (!def.enabled) return;

@@ -134,7 +134,8 @@ void check(const SceneDef& def) {
   require(s.max_substeps >= 1 && s.max_substeps <= 1'000'000, "solver.max_substeps",
           "is " + std::to_string(s.max_substeps) + ", must be in [1, 1000000]");
   require(s.iterations >= 0 && s.iterations <= 10000, "solver.iterations",
-          "is " + std::to_string(s.iterations) + ", must be in [0, 10000] (0 = the method's default)");
+          "is " + std::to_string(s.iterations) +
+              ", must be in [0, 10000] (0 = the method's default)");
   range(s.cg_tolerance, 0.0, 1.0, "solver.cg_tolerance", true);
   require(s.cg_tolerance < 1.0, "solver.cg_tolerance", "must be below 1");
   require(s.cg_max_iterations >= 1 && s.cg_max_iterations <= 100000, "solver.cg_max_iterations",

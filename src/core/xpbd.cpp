@@ -80,7 +80,9 @@ class Xpbd final : public Solver {
     update_normals(m, s);
   }
 
-  int substeps() const override { return substeps_; }
+  int substeps() const override {
+    return substeps_;
+  }
 
  private:
   // 1. Predict: v += h·a, semi-implicit drag, x += h·v. Pinned and held particles stay put.
@@ -110,8 +112,8 @@ class Xpbd final : public Solver {
         // β = c (N·s/m): γ = α̃·β·h²/h = c/(k·h) (Macklin et al. 2016, eq. 26).
         const double gamma = sp.damping / (sp.stiffness * h);
         const DistanceCorrection d = xpbd_distance(
-            s.x[sp.i], s.inv_mass[sp.i], s.x[sp.j], s.inv_mass[sp.j], sp.rest, alpha_tilde,
-            gamma, s.x[sp.i] - x_prev_[sp.i], s.x[sp.j] - x_prev_[sp.j], lambda_[k]);
+            s.x[sp.i], s.inv_mass[sp.i], s.x[sp.j], s.inv_mass[sp.j], sp.rest, alpha_tilde, gamma,
+            s.x[sp.i] - x_prev_[sp.i], s.x[sp.j] - x_prev_[sp.j], lambda_[k]);
         s.x[sp.i] += d.dxi;
         s.x[sp.j] += d.dxj;
         lambda_[k] += d.dlambda;
@@ -136,6 +138,8 @@ class Xpbd final : public Solver {
 
 }  // namespace
 
-std::unique_ptr<Solver> make_xpbd() { return std::make_unique<Xpbd>(); }
+std::unique_ptr<Solver> make_xpbd() {
+  return std::make_unique<Xpbd>();
+}
 
 }  // namespace drape
