@@ -285,4 +285,37 @@ TEST_F(Cli, TerminateKeepsTheExportsSoFarAndExits143) {
   EXPECT_TRUE(fs::exists(fs::path(out) / "frame_00000.obj"));
 }
 
+TEST_F(Cli, CompareRunsEachMethodAndPrintsOneRowEach) {
+  const Result r = drape("compare " + scene("hang") +
+                         " --seconds 0.2 --threads 1 --set cloth.resolution=[12,12]");
+  ASSERT_EQ(r.code, 0) << r.output;
+  for (const char* column : {"method", "ms/frame", "substeps", "max strain", "mean strain",
+                             "kinetic J", "penetration m", "finite"})
+    EXPECT_NE(r.output.find(column), std::string::npos) << column;
+  int rows = 0;
+  std::istringstream lines(r.output);
+  for (std::string line; std::getline(lines, line);) {
+    for (const char* m : {"symplectic", "implicit", "xpbd", "fast"}) {
+      if (line.rfind(m, 0) != 0) continue;
+      ++rows;
+      EXPECT_NE(line.find(" yes "), std::string::npos) << line;  // finite
+      EXPECT_NE(line.find(" ok"), std::string::npos) << line;
+    }
+  }
+  EXPECT_EQ(rows, 4) << r.output;
+  // implicit and fast take one step per frame.
+  EXPECT_NE(r.output.find("12 frames"), std::string::npos) << r.output;
+}
+
+TEST_F(Cli, CompareTakesAMethodListAndRejectsUnknownMethods) {
+  const Result two = drape("compare " + scene("sphere") +
+                           " --seconds 0.1 --methods xpbd,fast --set cloth.resolution=[8,8]");
+  ASSERT_EQ(two.code, 0) << two.output;
+  EXPECT_NE(two.output.find("xpbd"), std::string::npos);
+  EXPECT_EQ(two.output.find("symplectic"), std::string::npos);
+  const Result bad = drape("compare " + scene("hang") + " --methods xpbd,magic");
+  EXPECT_EQ(bad.code, 2);
+  EXPECT_NE(bad.output.find("unknown method \"magic\""), std::string::npos) << bad.output;
+}
+
 }  // namespace

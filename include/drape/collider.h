@@ -53,6 +53,28 @@ inline bool resolve_contact(const Collider& c, Vec3& x, Vec3& v) {
   return true;
 }
 
+/// Coulomb friction for a contact whose normal velocity changed by dvn ≥ 0 (m/s): the
+/// tangential velocity shrinks by at most friction·dvn, never reversing. The same rule as
+/// resolve_contact, for solvers that handle the normal part inside their solve.
+inline void apply_friction(const Vec3& n, double dvn, double friction, Vec3& v) {
+  const double vn = v.dot(n);
+  const Vec3 vt = v - vn * n;
+  const double vt_len = vt.norm();
+  const double keep = vt_len > 0.0 ? std::max(0.0, 1.0 - friction * dvn / vt_len) : 0.0;
+  v = vn * n + keep * vt;
+}
+
+/// Moves x out to the thickness of the collider if it is closer (positions only). Returns the
+/// distance moved (0 if none) and sets `normal` to the outward normal when it moved.
+inline double project_out(const Collider& c, Vec3& x, Vec3& normal) {
+  Vec3 n;
+  const double gap = signed_distance(c, x, n) - c.thickness;
+  if (gap >= 0.0) return 0.0;
+  x -= gap * n;
+  normal = n;
+  return -gap;
+}
+
 /// Resolves contacts for every free particle (1/m > 0), each collider in turn.
 void resolve_contacts(const std::vector<Collider>& colliders, ClothState& state);
 

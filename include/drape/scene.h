@@ -28,6 +28,13 @@ struct Pin {
   int row = 0;
 };
 
+/// Long-range attachments (Kim et al. 2012): each free particle stays within its rest distance
+/// along the cloth from each pin, times (1 + slack).
+struct LongRangeDef {
+  bool enabled = false;  ///< off by default
+  double slack = 0.0;    ///< fraction of the rest distance allowed beyond it, in [0, 10]
+};
+
 /// A rectangular grid cloth.
 struct ClothDef {
   double width = 2.0;                ///< m, along the columns (x)
@@ -42,6 +49,7 @@ struct ClothDef {
   SpringParams shear{500.0, 0.5};          ///< both diagonals of each quad
   SpringParams bending{50.0, 0.1};         ///< two steps right and two steps down
   double perturbation = 1e-4;  ///< m, deterministic out-of-plane jitter of the start; 0 = flat
+  LongRangeDef long_range;     ///< `false`, `true` or {"slack": s} in scene files
 };
 
 enum class WindModel : uint8_t {
@@ -77,10 +85,14 @@ struct ColliderDef {
 };
 
 enum class Method : uint8_t {
-  symplectic  ///< semi-implicit Euler with automatic stable substeps (the seed's update)
+  symplectic,  ///< semi-implicit Euler with automatic stable substeps (the seed's update)
+  implicit,    ///< backward Euler, one Newton step per substep, filtered PCG (Baraff–Witkin)
+  xpbd,        ///< extended position-based dynamics, many substeps (Macklin et al. 2016, 2019)
+  fast         ///< local/global implicit Euler on a prefactored matrix (Liu et al. 2013)
 };
 /// Every method, in the order tables list them.
-inline constexpr Method kAllMethods[] = {Method::symplectic};
+inline constexpr Method kAllMethods[] = {Method::symplectic, Method::implicit, Method::xpbd,
+                                          Method::fast};
 
 struct SolverDef {
   Method method = Method::symplectic;
@@ -88,6 +100,15 @@ struct SolverDef {
   int substeps = 0;        ///< per frame; 0 = automatic (the stable minimum)
   double safety = 0.9;     ///< fraction of the stability bound used by automatic substeps
   int max_substeps = 10000;  ///< automatic substeps above this are refused
+  /// xpbd: constraint iterations per substep; fast: local/global iterations per substep;
+  /// 0 = the method's default (xpbd 1; fast: from the Chebyshev estimate, 10..200).
+  /// In [0, 10000].
+  int iterations = 0;
+  double cg_tolerance = 1e-5;    ///< implicit: CG stops at this relative residual, in (0, 1)
+  int cg_max_iterations = 2000;  ///< implicit: CG iteration cap per substep, in [1, 100000]
+  /// fast: spectral radius estimate for Chebyshev acceleration (Wang 2015), in [0, 1);
+  /// 0 = automatic (from stiffness, mass and step).
+  double chebyshev_rho = 0.0;
 };
 
 struct SceneDef {

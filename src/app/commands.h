@@ -20,6 +20,9 @@ std::function<int()> add_bench_command(CLI::App& app);
 /// Registers `drape render` (frames to PNG without a display, through EGL).
 std::function<int()> add_render_command(CLI::App& app);
 
+/// Registers `drape compare`: one scene with each method, a table side by side.
+std::function<int()> add_compare_command(CLI::App& app);
+
 /// Registers `drape view` (the interactive viewer).
 std::function<int()> add_view_command(CLI::App& app);
 

@@ -44,7 +44,8 @@ int main(int argc, char** argv) {
   CLI::App app("drape: a fast, stable cloth simulator (mass-spring)", "drape");
   app.set_version_flag("--version", DRAPE_VERSION);
   app.require_subcommand(1);
-  std::vector<std::function<int()>> commands{add_run_command(app), add_bench_command(app)};
+  std::vector<std::function<int()>> commands{add_run_command(app), add_compare_command(app),
+                                              add_bench_command(app)};
 #ifdef DRAPE_HAVE_VIEWER
   commands.push_back(add_view_command(app));
 #endif

@@ -48,6 +48,17 @@ inline Mat3 spring_stiffness(const Vec3& xi, const Vec3& xj, double k, double re
   return k * (uu + transverse * (Mat3::Identity() - uu));
 }
 
+/// The backward-Euler system block of a spring for step h: h²·K + h·c·d̂d̂ᵀ, with K the clamped
+/// stiffness (spring_stiffness) and c·d̂d̂ᵀ = −∂f_i/∂v_i of the damping force. The Newton step's
+/// matrix is M plus this block coupling i and j (+ on the diagonal, − off it).
+inline Mat3 implicit_spring_block(const Vec3& xi, const Vec3& xj, double k, double rest, double c,
+                                  double h) {
+  const Vec3 d = xj - xi;
+  const double len2 = d.squaredNorm();
+  const Mat3 damping = len2 > 0.0 ? Mat3((c / len2) * (d * d.transpose())) : Mat3::Zero();
+  return (h * h) * spring_stiffness(xi, xj, k, rest, true) + h * damping;
+}
+
 /// Adds every spring's elastic and damping forces to f (N). Colour by colour, in parallel.
 void add_springs(const ClothModel& model, const std::vector<Vec3>& x, const std::vector<Vec3>& v,
                  std::vector<Vec3>& f);

@@ -12,3 +12,27 @@ inline constexpr int64_t kParallelMin = 8192;  ///< items per loop before thread
 inline bool worth_threads(int64_t items) { return items >= kParallelMin; }
 
 }  // namespace drape
+
+namespace drape {
+
+inline constexpr int kSumBlocks = 64;  ///< fixed partition of deterministic sums
+
+/// Σ_{i<n} term(i), in parallel, with the same bits for any thread count: [0, n) is cut into
+/// kSumBlocks fixed blocks, each summed in order, then the block sums in order (an OpenMP
+/// reduction's combining order may vary from run to run). `term` may also update item i.
+template <class Term>
+double deterministic_sum(int64_t n, Term term) {
+  double partial[kSumBlocks];
+#pragma omp parallel for schedule(static) if (worth_threads(n))
+  for (int b = 0; b < kSumBlocks; ++b) {
+    const int64_t begin = n * b / kSumBlocks, end = n * (b + 1) / kSumBlocks;
+    double s = 0.0;
+    for (int64_t i = begin; i < end; ++i) s += term(i);
+    partial[b] = s;
+  }
+  double sum = 0.0;
+  for (double p : partial) sum += p;
+  return sum;
+}
+
+}  // namespace drape

@@ -10,6 +10,9 @@ namespace drape {
 const char* to_string(Method m) {
   switch (m) {
     case Method::symplectic: return "symplectic";
+    case Method::implicit: return "implicit";
+    case Method::xpbd: return "xpbd";
+    case Method::fast: return "fast";
   }
   return "?";
 }
@@ -96,6 +99,7 @@ void check(const SceneDef& def) {
   check_springs(c.shear, "cloth.springs.shear");
   check_springs(c.bending, "cloth.springs.bending");
   range(c.perturbation, 0.0, 1.0, "cloth.perturbation");
+  range(c.long_range.slack, 0.0, 10.0, "cloth.long_range.slack");
 
   const ForcesDef& f = def.forces;
   finite(f.gravity, "forces.gravity");
@@ -130,6 +134,15 @@ void check(const SceneDef& def) {
   range(s.safety, 0.0, 1.0, "solver.safety", true);
   require(s.max_substeps >= 1 && s.max_substeps <= 1'000'000, "solver.max_substeps",
           "is " + std::to_string(s.max_substeps) + ", must be in [1, 1000000]");
+  require(s.iterations >= 0 && s.iterations <= 10000, "solver.iterations",
+          "is " + std::to_string(s.iterations) +
+              ", must be in [0, 10000] (0 = the method's default)");
+  range(s.cg_tolerance, 0.0, 1.0, "solver.cg_tolerance", true);
+  require(s.cg_tolerance < 1.0, "solver.cg_tolerance", "must be below 1");
+  require(s.cg_max_iterations >= 1 && s.cg_max_iterations <= 100000, "solver.cg_max_iterations",
+          "is " + std::to_string(s.cg_max_iterations) + ", must be in [1, 100000]");
+  range(s.chebyshev_rho, 0.0, 1.0, "solver.chebyshev_rho");
+  require(s.chebyshev_rho < 1.0, "solver.chebyshev_rho", "must be below 1 (0 = automatic)");
   range(def.duration, 0.0, 1e7, "duration");
 }
 

@@ -28,7 +28,7 @@ Simulation& Simulation::operator=(Simulation&&) noexcept = default;
 int Simulation::substeps_per_frame() const { return solver_->substeps(); }
 
 void Simulation::prepare_solver() {
-  World world{model_, state_, def_.forces, colliders_, time()};
+  World world{model_, state_, def_.forces, colliders_, time(), def_.cloth.long_range};
   solver_->prepare(world, def_.solver);
 }
 
@@ -45,7 +45,7 @@ void Simulation::rebase_energy() {
 
 bool Simulation::step() {
   if (diverged()) return false;
-  World world{model_, state_, def_.forces, colliders_, time()};
+  World world{model_, state_, def_.forces, colliders_, time(), def_.cloth.long_range};
   solver_->step_frame(world, def_.solver.dt);
   ++frame_;
 
@@ -59,7 +59,8 @@ bool Simulation::step() {
     finite = state_.x[i].allFinite() && state_.v[i].allFinite();
   const std::string method = to_string(def_.solver.method);
   const char* hint =
-      "; try a smaller solver.dt, more solver.substeps (0 = automatic), or lower stiffness";
+      "; try a smaller solver.dt, more solver.substeps (0 = automatic), lower stiffness, or the "
+      "implicit method";
   if (!finite) {
     divergence_ = "the state became non-finite (NaN or infinity) with the " + method +
                   " method" + hint;
@@ -161,6 +162,8 @@ void Simulation::grab(int32_t particle) {
   grabbed_inv_mass_ = state_.inv_mass[particle];
   state_.inv_mass[particle] = 0.0;
   state_.v[particle].setZero();
+  // What depends on which particles are free (factorisations, filters) changes at once.
+  prepare_solver();
 }
 
 void Simulation::move_grab(const Vec3& target) {
@@ -174,6 +177,7 @@ void Simulation::release(const Vec3& velocity) {
   state_.inv_mass[grabbed_] = state_.pinned[grabbed_] ? 0.0 : grabbed_inv_mass_;
   if (!state_.pinned[grabbed_] && velocity.allFinite()) state_.v[grabbed_] = velocity;
   grabbed_ = -1;
+  prepare_solver();
   rebase_energy();
 }
 

@@ -18,6 +18,7 @@ struct World {
   const ForcesDef& forces;
   const std::vector<Collider>& colliders;
   double time = 0.0;  ///< s, at the start of the frame
+  LongRangeDef long_range{};  ///< long-range attachments to apply (cloth.long_range)
 };
 
 class Solver {
@@ -34,6 +35,9 @@ class Solver {
 
 std::unique_ptr<Solver> make_solver(Method method);
 std::unique_ptr<Solver> make_symplectic();
+std::unique_ptr<Solver> make_implicit();
+std::unique_ptr<Solver> make_xpbd();
+std::unique_ptr<Solver> make_fast();
 
 /// The largest explicit step h with h²ω² + 2hγ < 4, where ω² = max_i Σ_s 2k_s/m_i and
 /// γ = max_i Σ_s 2c_s/m_i over the springs s at each free particle i (Gershgorin bounds on the

@@ -7,6 +7,7 @@
 
 #include "drape/error.h"
 #include "forces.h"
+#include "long_range.h"
 #include "solver.h"
 #include "parallel.h"
 
@@ -37,6 +38,7 @@ class Symplectic final : public Solver {
  public:
   void prepare(const World& w, const SolverDef& def) override {
     force_.assign(w.model.size(), Vec3::Zero());
+    attachments_.prepare(w.model, w.state, w.long_range);
     if (def.substeps > 0) {
       substeps_ = def.substeps;
       return;
@@ -74,7 +76,8 @@ class Symplectic final : public Solver {
       forces::apply_drag(w.forces.air_drag, s.inv_mass, h, s.v);
 #pragma omp parallel for schedule(static) if (worth_threads(n))
       for (int32_t i = 0; i < n; ++i) s.x[i] += h * s.v[i];
-      // 3. Contacts.
+      // 3. Long-range attachments, then contacts (last, so nothing stays inside a collider).
+      attachments_.apply(w.model, s, true);
       resolve_contacts(w.colliders, s);
     }
     update_normals(w.model, s);
@@ -85,6 +88,7 @@ class Symplectic final : public Solver {
  private:
   int substeps_ = 1;
   std::vector<Vec3> force_;
+  LongRange attachments_;
 };
 
 }  // namespace

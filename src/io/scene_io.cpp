@@ -283,6 +283,19 @@ SceneDef parse_scene(const json& j, const std::string& source) {
         s.finish();
       }
       r.number("perturbation", c.perturbation);
+      if (const json* v = r.find("long_range")) {
+        // false, true, or {"slack": s}.
+        if (v->is_boolean()) {
+          c.long_range.enabled = v->get<bool>();
+        } else if (v->is_object()) {
+          Reader lr(*v, "cloth.long_range");
+          c.long_range.enabled = true;
+          lr.number("slack", c.long_range.slack);
+          lr.finish();
+        } else {
+          fail("cloth.long_range", "expected false, true or {\"slack\": s}, got " + type_name(*v));
+        }
+      }
       r.finish();
     }
     if (const json* fj = top.find("forces")) {
@@ -316,6 +329,10 @@ SceneDef parse_scene(const json& j, const std::string& source) {
       r.integer("substeps", def.solver.substeps);
       r.number("safety", def.solver.safety);
       r.integer("max_substeps", def.solver.max_substeps);
+      r.integer("iterations", def.solver.iterations);
+      r.number("cg_tolerance", def.solver.cg_tolerance);
+      r.integer("cg_max_iterations", def.solver.cg_max_iterations);
+      r.number("chebyshev_rho", def.solver.chebyshev_rho);
       r.finish();
     }
     top.number("duration", def.duration);
@@ -416,7 +433,8 @@ json to_json(const SceneDef& d) {
          {{"structural", springs(c.structural)},
           {"shear", springs(c.shear)},
           {"bending", springs(c.bending)}}},
-        {"perturbation", c.perturbation}}},
+        {"perturbation", c.perturbation},
+        {"long_range", c.long_range.enabled ? json{{"slack", c.long_range.slack}} : json(false)}}},
       {"forces",
        {{"gravity", v3(d.forces.gravity)},
         {"air_drag", d.forces.air_drag},
@@ -434,7 +452,11 @@ json to_json(const SceneDef& d) {
         {"dt", d.solver.dt},
         {"substeps", d.solver.substeps},
         {"safety", d.solver.safety},
-        {"max_substeps", d.solver.max_substeps}}},
+        {"max_substeps", d.solver.max_substeps},
+        {"iterations", d.solver.iterations},
+        {"cg_tolerance", d.solver.cg_tolerance},
+        {"cg_max_iterations", d.solver.cg_max_iterations},
+        {"chebyshev_rho", d.solver.chebyshev_rho}}},
       {"duration", d.duration}};
 }
 

@@ -1,0 +1,177 @@
+// `drape compare SCENE`: run one scene with each method and print the figures side by side,
+// so the trade-offs (time per frame, substeps, stretch, rest, contacts) read as one table.
+#include <algorithm>
+#include <cstdio>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <omp.h>
+
+#include "app/commands.h"
+#include "app/runner.h"
+#include "app/terminal.h"
+#include "drape/error.h"
+#include "io/scene_io.h"
+
+namespace drape::app {
+
+namespace {
+
+struct CompareOptions {
+  std::string scene;
+  std::vector<std::string> methods{"symplectic", "implicit", "xpbd", "fast"};
+  std::optional<double> seconds;
+  std::vector<std::string> sets;
+  int threads = 0;
+  bool markdown = false;
+};
+
+struct Row {
+  std::string method;
+  std::string status;  // "ok", "diverged at frame N", "refused: ..."
+  double ms = 0.0;
+  int substeps = 0;
+  Diagnostics d;
+};
+
+std::string percent(double x) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.3f%%", 100.0 * x);
+  return buf;
+}
+
+std::string number(const char* format, double x) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, format, x);
+  return buf;
+}
+
+void print_table(const std::vector<Row>& rows, bool markdown) {
+  const std::vector<std::string> head{"method",        "ms/frame",    "substeps",
+                                      "max strain",    "mean strain", "kinetic J",
+                                      "penetration m", "finite",      "status"};
+  std::vector<std::vector<std::string>> cells;
+  for (const Row& r : rows) {
+    const bool ran = r.status.rfind("refused", 0) != 0;
+    cells.push_back({r.method, ran ? number("%.3f", r.ms) : "-",
+                     ran ? std::to_string(r.substeps) : "-", ran ? percent(r.d.max_strain) : "-",
+                     ran ? percent(r.d.mean_strain) : "-",
+                     ran ? number("%.3g", r.d.kinetic_energy) : "-",
+                     ran ? number("%.3g", r.d.max_penetration) : "-",
+                     ran ? (r.d.finite ? "yes" : "no") : "-", r.status});
+  }
+  std::vector<size_t> width(head.size());
+  for (size_t c = 0; c < head.size(); ++c) {
+    width[c] = head[c].size();
+    for (const auto& row : cells) width[c] = std::max(width[c], row[c].size());
+  }
+  auto line = [&](const std::vector<std::string>& row) {
+    std::string out = markdown ? "|" : "";
+    for (size_t c = 0; c < row.size(); ++c) {
+      std::string cell = row[c];
+      // Text left, figures right.
+      const bool left = c == 0 || c + 1 == row.size();
+      const std::string pad(width[c] - cell.size(), ' ');
+      cell = left ? cell + pad : pad + cell;
+      out += markdown ? " " + cell + " |" : (c ? "  " : "") + cell;
+    }
+    std::printf("%s\n", out.c_str());
+  };
+  line(head);
+  if (markdown) {
+    std::string rule = "|";
+    for (size_t c = 0; c < head.size(); ++c) {
+      const bool left = c == 0 || c + 1 == head.size();
+      rule += (left ? ":" : "") + std::string(width[c] + 1, '-') + (left ? "" : ":") + "|";
+    }
+    std::printf("%s\n", rule.c_str());
+  }
+  for (const auto& row : cells) line(row);
+}
+
+int compare(const CompareOptions& o) {
+  if (o.threads > 0) omp_set_num_threads(o.threads);
+  std::vector<Method> methods;
+  for (const std::string& name : o.methods) {
+    bool found = false;
+    for (Method m : {Method::symplectic, Method::implicit, Method::xpbd, Method::fast}) {
+      if (name == to_string(m)) {
+        methods.push_back(m);
+        found = true;
+      }
+    }
+    if (!found) {
+      std::fprintf(stderr,
+                   "drape: error: --methods: unknown method \"%s\"; expected symplectic, "
+                   "implicit, xpbd or fast\n",
+                   name.c_str());
+      return kExitBadInput;
+    }
+  }
+  std::vector<std::string> sets = o.sets;
+  if (o.seconds) sets.push_back("duration=" + std::to_string(*o.seconds));
+  SceneDef def;
+  try {
+    def = io::load_scene(o.scene, sets);
+  } catch (const InputError& e) {
+    std::fprintf(stderr, "drape: error: %s\n", e.what());
+    return kExitBadInput;
+  }
+  install_interrupt_handlers();
+  const int64_t frames = frame_count(def);
+  std::vector<Row> rows;
+  for (Method m : methods) {
+    Row row;
+    row.method = to_string(m);
+    SceneDef d = def;
+    d.solver.method = m;
+    std::optional<Simulation> sim;
+    try {
+      sim.emplace(d);
+    } catch (const InputError& e) {
+      row.status = "refused: " + e.problem();
+      rows.push_back(row);
+      continue;
+    }
+    RunHooks hooks;
+    hooks.progress_label = def.name + " " + row.method;  // drawn only on a terminal
+    const RunResult run = run_frames(*sim, frames, hooks);
+    row.ms = run.median_ms();
+    row.substeps = sim->substeps_per_frame();
+    row.d = sim->diagnostics();
+    row.status = run.status == RunStatus::ok ? "ok"
+                 : sim->diverged() ? "diverged at frame " + std::to_string(sim->diverged_frame())
+                                   : "interrupted";
+    rows.push_back(row);
+    if (run.status == RunStatus::interrupted) break;
+  }
+  std::printf("%s: %dx%d particles, %lld frames of %.4g s (%.3g s simulated), %d thread(s)\n",
+              def.name.c_str(), def.cloth.cols, def.cloth.rows, static_cast<long long>(frames),
+              def.solver.dt, static_cast<double>(frames) * def.solver.dt, omp_get_max_threads());
+  print_table(rows, o.markdown);
+  if (int s = interrupt_signal()) return interrupt_exit_code(s);
+  return kExitOk;
+}
+
+}  // namespace
+
+std::function<int()> add_compare_command(CLI::App& app) {
+  auto o = std::make_shared<CompareOptions>();
+  CLI::App* cmd = app.add_subcommand(
+      "compare", "Run a scene with each method and print their figures side by side");
+  cmd->add_option("scene", o->scene, "Scene file (JSON)")->required();
+  cmd->add_option("--methods", o->methods, "Methods to compare, in order (default: all four)")
+      ->delimiter(',')
+      ->take_all();
+  cmd->add_option("--seconds", o->seconds, "Simulated duration in s (overrides the scene's)");
+  cmd->add_option("--set", o->sets, "Override a scene key: KEY=VALUE, e.g. cloth.mass=2")
+      ->take_all()
+      ->allow_extra_args(false);
+  cmd->add_option("--threads", o->threads, "Threads to use (default: all cores)")
+      ->check(CLI::Range(1, 1024));
+  cmd->add_flag("--markdown", o->markdown, "Print the table as Markdown");
+  return [cmd, o] { return cmd->parsed() ? compare(*o) : -1; };
+}
+
+}  // namespace drape::app

@@ -1,0 +1,325 @@
+// `fast`: implicit Euler for mass–springs by local/global iterations (Liu, Bargteil, O'Brien &
+// Kavan 2013, "Fast simulation of mass-spring systems"), Chebyshev-accelerated (Wang 2015,
+// "A Chebyshev semi-iterative approach for accelerating projective and position-based
+// dynamics"). Each substep minimises
+//   ½(x − y)ᵀM(x − y) + (h/2)(x − x₀)ᵀC(x − x₀) + h²·Σ_s ½k_s|x_j − x_i − d_s|²
+// over x and the spring directions d_s (|d_s| = L_s), with y = x₀ + h·v₀ + h²·M⁻¹f_ext:
+//   local:  d_s = L_s·(x_j − x_i)/|x_j − x_i|;
+//   global: (M + hC + h²L)·x = M·y + hC·x₀ + h²·J·d, the matrix fixed and prefactored.
+// Damping: per-spring damping along the current spring direction would change the matrix every
+// step, and explicit damping blows up at h = 1/60 s. Here each spring's c acts on the full
+// relative velocity of its ends (C = Σ_s c_s·A_sA_sᵀ, a weighted graph Laplacian), implicitly,
+// inside the prefactored matrix: unconditionally stable, momentum-conserving, but it also damps
+// the relative motion across the spring (bending and swinging fold motion), a little more than
+// the other methods do.
+// Contacts: the inertial target y is projected out of the colliders before the iterations, so
+// the solve relaxes the springs around where the contact puts a particle; projecting only
+// after the solve would stretch stiff springs by up to h²·g each step and pump energy into
+// them. Friction uses the normal velocity change of that projection; what the springs still
+// push inside is resolved after the solve as in the other methods.
+// Pinned and held particles are eliminated (their positions move to the right-hand side), so the
+// factorisation depends on them: prepare() refactorises, and the Simulation calls it whenever
+// pins, the held particle, masses, stiffness or dt change.
+#include <Eigen/SparseCholesky>
+#include <Eigen/SparseCore>
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include <omp.h>
+
+#include "drape/error.h"
+#include "forces.h"
+#include "long_range.h"
+#include "parallel.h"
+#include "solver.h"
+
+namespace drape {
+
+namespace {
+
+constexpr int kDefaultIterations = 10;
+// Chebyshev starts after this many plain iterations (Wang 2015 §4 delays it: the first
+// iterations' error does not yet decay at the asymptotic rate).
+constexpr int kChebyshevDelay = 2;
+// The contact term's weight in units of h²·(the stiffest spring): stiff enough that a contact
+// holds against the springs pulling the cloth in, soft enough not to slow the iterations much.
+constexpr double kContactWeight = 4.0;
+
+class Fast final : public Solver {
+ public:
+  void prepare(const World& w, const SolverDef& def) override {
+    const ClothModel& m = w.model;
+    const int32_t n = m.size();
+    substeps_ = def.substeps > 0 ? def.substeps : 1;
+    h_ = def.dt / substeps_;
+    rho_ = def.chebyshev_rho > 0.0 ? def.chebyshev_rho : estimate_rho(w, h_);
+    // Chebyshev's error falls by about 1 − sqrt(1 − ρ²) per iteration: enough iterations for
+    // e^-2 of the slowest error, at least 10 (Liu et al.'s choice), at most 200.
+    iterations_ = def.iterations > 0
+                      ? def.iterations
+                      : std::clamp(static_cast<int>(std::ceil(2.0 / std::sqrt(1.0 - rho_ * rho_))),
+                                   kDefaultIterations, 200);
+    attachments_.prepare(m, w.state, w.long_range);
+
+    // Free particles are the unknowns.
+    free_.assign(n, -1);
+    int32_t free = 0;
+    for (int32_t i = 0; i < n; ++i)
+      if (w.state.inv_mass[i] > 0.0) free_[i] = free++;
+    free_count_ = free;
+
+    using Triplet = Eigen::Triplet<double>;
+    std::vector<Triplet> t;
+    t.reserve(static_cast<size_t>(free) + 4 * m.springs.size());
+    for (int32_t i = 0; i < n; ++i)
+      if (free_[i] >= 0) t.emplace_back(free_[i], free_[i], m.mass[i]);
+    for (const Spring& s : m.springs) {
+      const double a = h_ * s.damping + h_ * h_ * s.stiffness;
+      const int32_t fi = free_[s.i], fj = free_[s.j];
+      if (fi >= 0) t.emplace_back(fi, fi, a);
+      if (fj >= 0) t.emplace_back(fj, fj, a);
+      if (fi >= 0 && fj >= 0) {
+        t.emplace_back(fi, fj, -a);
+        t.emplace_back(fj, fi, -a);
+      }
+    }
+    // Contacts as a term of the minimised energy, w·½|x − p|² for every free particle with p
+    // its current iterate moved out of the colliders (the local step finds p like a spring's
+    // direction): zero where nothing touches, a stiff pull to the surface where something
+    // does, and the same w everywhere, so it lives in the prefactored matrix. Projecting only
+    // the inertial target y would not do: h²k ≫ m, so stiff springs overrule it.
+    double k_max = 0.0;
+    for (const Spring& s : m.springs) k_max = std::max(k_max, s.stiffness);
+    // Long-range attachments join the same term: p is also moved inside each pin's limit.
+    contact_weight_ =
+        w.colliders.empty() && !attachments_.active() ? 0.0 : kContactWeight * h_ * h_ * k_max;
+    for (int32_t i = 0; i < n; ++i)
+      if (free_[i] >= 0 && contact_weight_ > 0.0)
+        t.emplace_back(free_[i], free_[i], contact_weight_);
+    Eigen::SparseMatrix<double> A(free, free);
+    A.setFromTriplets(t.begin(), t.end());
+    if (free > 0) {
+      llt_.compute(A);
+      if (llt_.info() != Eigen::Success)
+        throw InputError("solver.method",
+                         "the fast method could not factorise its system matrix (masses must "
+                         "be positive)");
+    }
+    perm_.resize(free);
+    for (int32_t k = 0; k < free; ++k)
+      perm_[k] = llt_.permutationP().size() > 0 ? llt_.permutationP().indices()[k] : k;
+
+    for (auto* v : {&x0_, &y_, &xk_, &xkm1_, &b0_, &rhs_, &force_, &contact_n_})
+      v->assign(n, Vec3::Zero());
+    contact_dvn_.assign(n, 0.0);
+    contact_mu_.assign(n, 0.0);
+    X_.setZero(free, 3);
+  }
+
+  void step_frame(World& w, double dt) override {
+    (void)dt;  // h_ was fixed in prepare(), with the factorisation (dt never changes between)
+    ClothState& s = w.state;
+    const ClothModel& m = w.model;
+    const int32_t n = m.size();
+    for (int k = 0; k < substeps_; ++k) {
+      inertia(w, w.time + k * h_);
+      const double h2 = h_ * h_;
+      double omega = 1.0;
+      for (int it = 0; it < iterations_; ++it) {
+        local_and_rhs(m, w.colliders, h2);
+        global_solve();
+        omega = chebyshev_weight(it, omega);
+        // x_{k+1} = ω(x̂ − x_{k−1}) + x_{k−1} (Wang 2015, eq. 12 with γ = 1); ω = 1: x̂.
+#pragma omp parallel for schedule(static) if (worth_threads(n))
+        for (int32_t i = 0; i < n; ++i) {
+          const int32_t f = free_[i];
+          if (f < 0) continue;
+          const int32_t row = perm_[f];  // undo the permutation: x = Pᵀ·(P·x)
+          const Vec3 xhat(X_(row, 0), X_(row, 1), X_(row, 2));
+          const Vec3 next = omega * (xhat - xkm1_[i]) + xkm1_[i];
+          xkm1_[i] = xk_[i];
+          xk_[i] = next;
+        }
+      }
+      // v = (x − x₀)/h: implicit Euler's velocity.
+#pragma omp parallel for schedule(static) if (worth_threads(n))
+      for (int32_t i = 0; i < n; ++i) {
+        if (free_[i] < 0) continue;
+        s.x[i] = xk_[i];
+        s.v[i] = (xk_[i] - x0_[i]) / h_;
+        if (contact_dvn_[i] > 0.0)
+          apply_friction(contact_n_[i], contact_dvn_[i], contact_mu_[i], s.v[i]);
+      }
+      attachments_.apply(m, s, true);
+      resolve_contacts(w.colliders, s);
+    }
+    update_normals(m, s);
+  }
+
+  int substeps() const override {
+    return substeps_;
+  }
+
+ private:
+  // 1. Drag (semi-implicit, on v₀), the inertial target y, and the constant part of the
+  // right-hand side b₀ = M·y + hC·x₀ + (hc + h²k)·x_j for each spring to a fixed particle j.
+  void inertia(World& w, double t) {
+    ClothState& s = w.state;
+    const ClothModel& m = w.model;
+    const int32_t n = m.size();
+    forces::apply_drag(w.forces.air_drag, s.inv_mass, h_, s.v);
+#pragma omp parallel for schedule(static) if (worth_threads(n))
+    for (int32_t i = 0; i < n; ++i) force_[i] = m.mass[i] * w.forces.gravity;
+    if (w.forces.wind.strength > 0.0 && w.forces.wind.coefficient > 0.0) {
+      update_normals(m, s);
+      forces::add_wind(m, s, w.forces.wind, t, force_);
+    }
+#pragma omp parallel for schedule(static) if (worth_threads(n))
+    for (int32_t i = 0; i < n; ++i) {
+      x0_[i] = s.x[i];
+      y_[i] = free_[i] >= 0 ? Vec3(s.x[i] + h_ * s.v[i] + (h_ * h_ * s.inv_mass[i]) * force_[i])
+                            : s.x[i];
+      // Contacts: the inertial target is moved out of the colliders, so the solve pulls the
+      // cloth to the surface rather than into it.
+      contact_dvn_[i] = 0.0;
+      if (free_[i] >= 0) {
+        for (const Collider& col : w.colliders) {
+          Vec3 nrm;
+          const double moved = project_out(col, y_[i], nrm);
+          if (moved > 0.0) {
+            contact_n_[i] = nrm;
+            contact_dvn_[i] = moved / h_;
+            contact_mu_[i] = col.friction;
+          }
+        }
+      }
+      b0_[i] = m.mass[i] * y_[i];
+      // The iterations start from x₀ + h·v₀, not from y: then a state at rest is a fixed point
+      // of the step only where the forces balance, whatever the iteration count, so the
+      // static shape is the true equilibrium (starting from y, the unconverged part of the
+      // h²·g pull would leave a bias that sags further). Free fall stays exact: the first
+      // global step reaches y.
+      xk_[i] = free_[i] >= 0 ? Vec3(s.x[i] + h_ * s.v[i]) : s.x[i];
+      xkm1_[i] = xk_[i];
+    }
+    const double h = h_, h2 = h_ * h_;
+    for (int c = 0; c < m.colours(); ++c) {
+      const int32_t begin = m.colour_begin[c], end = m.colour_begin[c + 1];
+#pragma omp parallel for schedule(static) if (worth_threads(end - begin))
+      for (int32_t k = begin; k < end; ++k) {
+        const Spring& sp = m.springs[k];
+        const Vec3 damp = (h * sp.damping) * (x0_[sp.i] - x0_[sp.j]);
+        const double a = h * sp.damping + h2 * sp.stiffness;
+        b0_[sp.i] += damp;
+        b0_[sp.j] -= damp;
+        if (free_[sp.j] < 0) b0_[sp.i] += a * x0_[sp.j];
+        if (free_[sp.i] < 0) b0_[sp.j] += a * x0_[sp.i];
+      }
+    }
+  }
+
+  // 2. Local step (the best spring directions for x_k) scattered into the right-hand side
+  // b₀ + h²·J·d, then gathered into the permuted unknowns.
+  void local_and_rhs(const ClothModel& m, const std::vector<Collider>& colliders, double h2) {
+    const int32_t n = m.size();
+    // Contact term w·|x − p|² (see prepare): p is x_k moved inside the attachments' limits
+    // and out of the colliders.
+#pragma omp parallel for schedule(static) if (worth_threads(n))
+    for (int32_t i = 0; i < n; ++i) {
+      rhs_[i] = b0_[i];
+      if (contact_weight_ == 0.0 || free_[i] < 0) continue;
+      Vec3 p = xk_[i], nrm;
+      attachments_.project(m, xk_, i, p);
+      for (const Collider& col : colliders) project_out(col, p, nrm);
+      rhs_[i] += contact_weight_ * p;
+    }
+    for (int c = 0; c < m.colours(); ++c) {
+      const int32_t begin = m.colour_begin[c], end = m.colour_begin[c + 1];
+#pragma omp parallel for schedule(static) if (worth_threads(end - begin))
+      for (int32_t k = begin; k < end; ++k) {
+        const Spring& sp = m.springs[k];
+        const Vec3 e = xk_[sp.j] - xk_[sp.i];
+        const double len = e.norm();
+        if (len == 0.0) continue;  // any direction is as good; none adds nothing
+        const Vec3 d = (h2 * sp.stiffness * sp.rest / len) * e;
+        rhs_[sp.i] -= d;
+        rhs_[sp.j] += d;
+      }
+    }
+#pragma omp parallel for schedule(static) if (worth_threads(n))
+    for (int32_t i = 0; i < n; ++i) {
+      const int32_t f = free_[i];
+      if (f < 0) continue;
+      const int32_t row = perm_[f];
+      X_(row, 0) = rhs_[i].x();
+      X_(row, 1) = rhs_[i].y();
+      X_(row, 2) = rhs_[i].z();
+    }
+  }
+
+  // 3. Global step: L·Lᵀ·(P·x) = P·b, the three coordinates side by side (one thread each),
+  // in place. The
+  // result stays permuted: unknown f is row perm_[f].
+  void global_solve() {
+    if (free_count_ == 0) return;
+    const int threads = std::min(3, omp_get_max_threads());
+#pragma omp parallel for schedule(static) num_threads(threads) if (worth_threads(free_count_))
+    for (int c = 0; c < 3; ++c) {
+      auto col = X_.col(c);
+      llt_.matrixL().solveInPlace(col);
+      llt_.matrixU().solveInPlace(col);
+    }
+  }
+
+  // The local/global iteration replaces each spring's Hessian k·d̂d̂ᵀ by k·I, so the error in
+  // the directions it gets wrong shrinks per iteration by about h²K/(m + h²K), with K the
+  // largest total stiffness at a free particle (Gershgorin) and m its mass: the spectral
+  // radius Chebyshev needs (Wang 2015 estimates it by running the solver; this bound is
+  // cheap and errs high only by the transverse stiffness it ignores).
+  static double estimate_rho(const World& w, double h) {
+    const ClothModel& m = w.model;
+    std::vector<double> k_sum(m.size(), 0.0);
+    for (const Spring& s : m.springs) {
+      k_sum[s.i] += s.stiffness;
+      k_sum[s.j] += s.stiffness;
+    }
+    double rho = 0.0;
+    for (int32_t i = 0; i < m.size(); ++i) {
+      if (w.state.inv_mass[i] == 0.0) continue;
+      const double a = h * h * k_sum[i] * w.state.inv_mass[i];
+      rho = std::max(rho, a / (1.0 + a));
+    }
+    return std::min(rho, 0.9999);
+  }
+
+  double chebyshev_weight(int it, double omega) const {
+    if (rho_ <= 0.0 || it < kChebyshevDelay) return 1.0;
+    if (it == kChebyshevDelay) return 2.0 / (2.0 - rho_ * rho_);
+    return 4.0 / (4.0 - rho_ * rho_ * omega);
+  }
+
+  int substeps_ = 1;
+  int iterations_ = kDefaultIterations;
+  double rho_ = 0.0;
+  double h_ = 1.0 / 60.0;
+  double contact_weight_ = 0.0;  // kg, w of the contact term (0 without colliders)
+  int32_t free_count_ = 0;
+  std::vector<int32_t> free_;  // particle → unknown, −1 when fixed
+  std::vector<int32_t> perm_;  // unknown → row of the permuted system
+  Eigen::SimplicialLLT<Eigen::SparseMatrix<double>> llt_;
+  Eigen::Matrix<double, Eigen::Dynamic, 3> X_;
+  std::vector<Vec3> x0_, y_, xk_, xkm1_, b0_, rhs_, force_;
+  std::vector<Vec3> contact_n_;      // outward normal of the particle's contact
+  std::vector<double> contact_dvn_;  // its normal velocity change (m/s), 0 = no contact
+  std::vector<double> contact_mu_;   // its friction coefficient
+  LongRange attachments_;
+};
+
+}  // namespace
+
+std::unique_ptr<Solver> make_fast() {
+  return std::make_unique<Fast>();
+}
+
+}  // namespace drape

@@ -1,0 +1,254 @@
+// `implicit`: backward Euler with one Newton step per substep (Baraff & Witkin 1998, "Large
+// steps in cloth simulation"):
+//   (M − h·∂f/∂v − h²·∂f/∂x) Δv = h·(f₀ + h·∂f/∂x·v₀),
+// solved matrix-free by conjugate gradients with a 3×3 block-Jacobi preconditioner. Pinned and
+// held particles (1/m = 0) are constrained to Δv = 0 by filtering (B&W §5.3): their
+// preconditioner blocks are zero, so the search directions never move them — the constrained
+// directions are removed from the system rather than penalised. A compressed spring's
+// stiffness block drops its negative transverse term (forces::spring_stiffness with clamp) so
+// the system matrix stays symmetric positive definite and CG applies.
+//
+// Contacts are constraints of the same solve (B&W §5.3–5.4): a particle that would move into a
+// collider this substep has its normal velocity prescribed (to arrive at the surface, or to stay
+// on it) and only its tangential directions are solved for, so its neighbours' springs see
+// where it really goes. Projecting positions after a large step instead would stretch stiff
+// springs by up to h²·g per step and pump energy into them. Friction then acts on the
+// tangential velocity with the normal velocity change as the Coulomb bound. Long-range
+// attachments at their limit are constrained the same way (without friction), up to two
+// constraints per particle; the projection after the step catches the rest.
+#include <algorithm>
+#include <cmath>
+
+#include "forces.h"
+#include "long_range.h"
+#include "parallel.h"
+#include "solver.h"
+
+namespace drape {
+
+namespace {
+
+class Implicit final : public Solver {
+ public:
+  void prepare(const World& w, const SolverDef& def) override {
+    const int32_t n = w.model.size();
+    for (auto* v : {&rhs_, &force_, &dv_, &r_, &s_, &c_, &q_, &contact_n_})
+      v->assign(n, Vec3::Zero());
+    contact_dvn_.assign(n, 0.0);
+    contact_mu_.assign(n, 0.0);
+    block_.assign(w.model.springs.size(), Mat3::Zero());
+    diag_.assign(n, Mat3::Zero());
+    precond_.assign(n, Mat3::Zero());
+    attachments_.prepare(w.model, w.state, w.long_range);
+    substeps_ = def.substeps > 0 ? def.substeps : 1;
+    tolerance_ = def.cg_tolerance;
+    max_iterations_ = def.cg_max_iterations;
+  }
+
+  void step_frame(World& w, double dt) override {
+    const double h = dt / substeps_;
+    ClothState& s = w.state;
+    const int32_t n = w.model.size();
+    for (int k = 0; k < substeps_; ++k) {
+      assemble(w, h, w.time + k * h);
+      last_iterations_ = solve(w.model, s);
+      // Newton update with contact friction, then drag (semi-implicit, stable at any h) and
+      // the drift.
+#pragma omp parallel for schedule(static) if (worth_threads(n))
+      for (int32_t i = 0; i < n; ++i) {
+        s.v[i] += dv_[i];
+        if (contact_dvn_[i] > 0.0)
+          apply_friction(contact_n_[i], contact_dvn_[i], contact_mu_[i], s.v[i]);
+      }
+      forces::apply_drag(w.forces.air_drag, s.inv_mass, h, s.v);
+#pragma omp parallel for schedule(static) if (worth_threads(n))
+      for (int32_t i = 0; i < n; ++i) s.x[i] += h * s.v[i];
+      attachments_.apply(w.model, s, true);
+      resolve_contacts(w.colliders, s);
+    }
+    update_normals(w.model, s);
+  }
+
+  int substeps() const override {
+    return substeps_;
+  }
+
+ private:
+  // 1. The right-hand side b = h·f₀ − h²·K·v₀ (K = −∂f/∂x, clamped), each spring's system
+  // block D = h²K + h·c·d̂d̂ᵀ (c·d̂d̂ᵀ = −∂f/∂v), and the block-Jacobi preconditioner.
+  void assemble(World& w, double h, double t) {
+    const ClothModel& m = w.model;
+    ClothState& s = w.state;
+    const int32_t n = m.size();
+    const bool wind = w.forces.wind.strength > 0.0 && w.forces.wind.coefficient > 0.0;
+#pragma omp parallel for schedule(static) if (worth_threads(n))
+    for (int32_t i = 0; i < n; ++i) {
+      force_[i] = m.mass[i] * w.forces.gravity;
+      diag_[i] = m.mass[i] * Mat3::Identity();
+    }
+    if (wind) {
+      update_normals(m, s);
+      forces::add_wind(m, s, w.forces.wind, t, force_);
+    }
+    // The external impulse h·f_ext starts the right-hand side; its M⁻¹-norm is the floor of
+    // the CG stopping test.
+    ext_norm2_ = deterministic_sum(n, [&](int64_t i) {
+      rhs_[i] = h * force_[i];
+      dv_[i] = s.inv_mass[i] * rhs_[i];  // the first guess, before contacts filter it
+      return s.inv_mass[i] * rhs_[i].squaredNorm();
+    });
+    const double h2 = h * h;
+    for (int c = 0; c < m.colours(); ++c) {
+      const int32_t begin = m.colour_begin[c], end = m.colour_begin[c + 1];
+#pragma omp parallel for schedule(static) if (worth_threads(end - begin))
+      for (int32_t k = begin; k < end; ++k) {
+        const Spring& sp = m.springs[k];
+        const Vec3 &xi = s.x[sp.i], &xj = s.x[sp.j];
+        const Mat3 K = forces::spring_stiffness(xi, xj, sp.stiffness, sp.rest, true);
+        block_[k] = forces::implicit_spring_block(xi, xj, sp.stiffness, sp.rest, sp.damping, h);
+        const Vec3 fi = forces::spring_elastic(xi, xj, sp.stiffness, sp.rest) +
+                        forces::spring_damping(xi, xj, s.v[sp.i], s.v[sp.j], sp.damping);
+        const Vec3 bi = h * fi - h2 * (K * (s.v[sp.i] - s.v[sp.j]));
+        rhs_[sp.i] += bi;
+        rhs_[sp.j] -= bi;
+        force_[sp.i] += fi;
+        force_[sp.j] -= fi;
+        diag_[sp.i] += block_[k];
+        diag_[sp.j] += block_[k];
+      }
+    }
+    // Contacts, the filter S (I, I − nnᵀ or 0), the preconditioner S·P⁻¹·S (zero in the
+    // constrained directions, so CG never moves along them) and the first guess
+    // Δv = z + S·h·f_ext/m, z the prescribed normal velocity change (exact in free fall).
+#pragma omp parallel for schedule(static) if (worth_threads(n))
+    for (int32_t i = 0; i < n; ++i) {
+      contact_dvn_[i] = 0.0;
+      contact_mu_[i] = 0.0;
+      if (s.inv_mass[i] == 0.0) {
+        precond_[i].setZero();
+        dv_[i].setZero();
+        continue;
+      }
+      precond_[i] = diag_[i].inverse();
+      const Vec3 predicted = s.v[i] + dv_[i];  // with the external forces only
+      // Up to two constraints the particle would violate this substep: colliders (normal
+      // outward, gap to the thickness), then long-range limits (normal toward the pin, gap
+      // to the limit). A particle below two pins is usually at both limits at once.
+      Vec3 nrm[2];
+      double target[2] = {0.0, 0.0};
+      int count = 0;
+      auto consider = [&](const Vec3& n_out, double gap, double mu) {
+        const double t_n = -std::max(gap, 0.0) / h;  // normal velocity that just arrives
+        if (count == 2 || predicted.dot(n_out) >= t_n) return;
+        if (count == 0 || contact_dvn_[i] == 0.0) {  // friction: the first collider's
+          contact_n_[i] = n_out;
+          contact_dvn_[i] = mu > 0.0 ? t_n - predicted.dot(n_out) : 0.0;
+          contact_mu_[i] = mu;
+        }
+        nrm[count] = n_out;
+        target[count] = t_n;
+        ++count;
+      };
+      for (const Collider& col : w.colliders) {
+        Vec3 n_out;
+        const double gap = signed_distance(col, s.x[i], n_out) - col.thickness;
+        consider(n_out, gap, col.friction);
+      }
+      for (const int32_t a : attachments_.pins()) {
+        const Vec3 d = s.x[a] - s.x[i];
+        const double len = d.norm();
+        if (len > 0.0) consider(d / len, attachments_.limit(m, i, a) - len, 0.0);
+      }
+      if (count == 0) continue;
+      // Filter S = I − e₁e₁ᵀ − e₂e₂ᵀ over an orthonormal basis of the constrained normals, and
+      // the constrained part of Δv that meets both prescribed normal velocities
+      // ((v + Δv)·n_k = target_k; the system is triangular in that basis).
+      const Vec3 e1 = nrm[0];
+      Vec3 e2 = Vec3::Zero();
+      if (count == 2) {
+        const Vec3 r2 = nrm[1] - nrm[1].dot(e1) * e1;
+        if (r2.norm() > 1e-6) e2 = r2.normalized();
+      }
+      const Mat3 S = Mat3::Identity() - e1 * e1.transpose() - e2 * e2.transpose();
+      const double a1 = target[0] - s.v[i].dot(nrm[0]);
+      const double a2 =
+          e2.squaredNorm() > 0.0
+              ? (target[1] - s.v[i].dot(nrm[1]) - a1 * e1.dot(nrm[1])) / e2.dot(nrm[1])
+              : 0.0;
+      precond_[i] = S * precond_[i] * S;
+      dv_[i] = S * dv_[i] + a1 * e1 + a2 * e2;
+    }
+  }
+
+  // q = A·p = M·p + Σ_s D_s·(p_i − p_j) on i, the opposite on j.
+  void multiply(const ClothModel& m, const std::vector<Vec3>& p, std::vector<Vec3>& q) const {
+    const int32_t n = m.size();
+#pragma omp parallel for schedule(static) if (worth_threads(n))
+    for (int32_t i = 0; i < n; ++i) q[i] = m.mass[i] * p[i];
+    for (int c = 0; c < m.colours(); ++c) {
+      const int32_t begin = m.colour_begin[c], end = m.colour_begin[c + 1];
+#pragma omp parallel for schedule(static) if (worth_threads(end - begin))
+      for (int32_t k = begin; k < end; ++k) {
+        const Spring& sp = m.springs[k];
+        const Vec3 y = block_[k] * (p[sp.i] - p[sp.j]);
+        q[sp.i] += y;
+        q[sp.j] -= y;
+      }
+    }
+  }
+
+  // 2. Filtered preconditioned CG from the guess Δv = h·f_ext/m (exact in free fall). Stops
+  // when the residual's preconditioned norm falls below tolerance × the larger of its start
+  // and the external impulse, so it neither chases round-off nor stops early at rest.
+  // Returns the iterations taken.
+  int solve(const ClothModel& m, const ClothState& s) {
+    const int32_t n = m.size();
+    multiply(m, dv_, q_);
+    double delta = deterministic_sum(n, [&](int64_t i) {
+      r_[i] = s.inv_mass[i] > 0.0 ? Vec3(rhs_[i] - q_[i]) : Vec3::Zero();
+      c_[i] = precond_[i] * r_[i];
+      return r_[i].dot(c_[i]);
+    });
+    const double threshold = tolerance_ * tolerance_ * std::max(delta, ext_norm2_);
+    int it = 0;
+    for (; it < max_iterations_ && delta > threshold; ++it) {
+      multiply(m, c_, q_);
+      const double cq = deterministic_sum(n, [&](int64_t i) { return c_[i].dot(q_[i]); });
+      if (!(cq > 0.0)) break;  // only round-off left (A is positive definite on free particles)
+      const double alpha = delta / cq;
+      const double next = deterministic_sum(n, [&](int64_t i) {
+        dv_[i] += alpha * c_[i];
+        r_[i] -= alpha * q_[i];
+        s_[i] = precond_[i] * r_[i];
+        return r_[i].dot(s_[i]);
+      });
+      const double beta = next / delta;
+      delta = next;
+#pragma omp parallel for schedule(static) if (worth_threads(n))
+      for (int32_t i = 0; i < n; ++i) c_[i] = s_[i] + beta * c_[i];
+    }
+    return it;
+  }
+
+  int substeps_ = 1;
+  double tolerance_ = 1e-5;
+  int max_iterations_ = 2000;
+  int last_iterations_ = 0;
+  double ext_norm2_ = 0.0;
+  std::vector<Vec3> rhs_, force_, dv_, r_, s_, c_, q_;
+  std::vector<Vec3> contact_n_;      // outward normal of the particle's contact
+  std::vector<double> contact_dvn_;  // its normal velocity change (m/s), 0 = no contact
+  std::vector<double> contact_mu_;   // its friction coefficient
+  std::vector<Mat3> block_;          // per spring: h²K + h·C
+  std::vector<Mat3> diag_;           // per particle: the system matrix's diagonal block
+  std::vector<Mat3> precond_;        // its inverse, zero on constrained particles
+  LongRange attachments_;
+};
+
+}  // namespace
+
+std::unique_ptr<Solver> make_implicit() {
+  return std::make_unique<Implicit>();
+}
+
+}  // namespace drape

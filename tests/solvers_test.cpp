@@ -1,0 +1,468 @@
+// The large-step methods (implicit, xpbd, fast) and long-range attachments: their constraint
+// math on its own, then whole simulations against closed forms, conservation laws, the
+// symplectic reference and the stability and strain promises. Tolerances are stated
+// next to each check with their reason.
+#include <gtest/gtest.h>
+
+#include <Eigen/Eigenvalues>
+#include <cmath>
+#include <cstring>
+#include <functional>
+#include <nlohmann/json.hpp>
+
+#include "constraints.h"
+#include "drape/error.h"
+#include "drape/simulation.h"
+#include "forces.h"
+#include "io/scene_io.h"
+#include "long_range.h"
+
+namespace drape {
+namespace {
+
+SceneDef shipped(const std::string& name) {
+  return io::load_scene(std::string(DRAPE_SOURCE_DIR) + "/scenes/" + name + ".json");
+}
+
+// A cloth with nothing but what a test turns on: no gravity, drag, wind, pins or perturbation.
+SceneDef bare(Method method) {
+  SceneDef def;
+  def.cloth.cols = def.cloth.rows = 8;
+  def.cloth.pins.clear();
+  def.cloth.perturbation = 0.0;
+  def.forces.gravity = Vec3::Zero();
+  def.forces.air_drag = 0.0;
+  def.solver.method = method;
+  return def;
+}
+
+Vec3 momentum(const Simulation& sim) {
+  Vec3 p = Vec3::Zero();
+  for (int32_t i = 0; i < sim.model().size(); ++i) p += sim.model().mass[i] * sim.state().v[i];
+  return p;
+}
+
+Vec3 random_vec(int seed) {
+  return Vec3(std::sin(1.3 * seed + 0.1), std::cos(2.1 * seed + 0.7), std::sin(0.7 * seed + 2.0));
+}
+
+// ---- Constraint math on its own -------------------------------------------------------------
+
+TEST(XpbdDistance, ZeroComplianceSatisfiesTheConstraintAndConservesMomentum) {
+  for (int seed = 1; seed <= 10; ++seed) {
+    const Vec3 xi = random_vec(seed), xj = random_vec(seed + 50);
+    const double mi = 0.5 + 0.1 * seed, mj = 2.0 - 0.1 * seed, rest = 0.2 + 0.05 * seed;
+    const DistanceCorrection d =
+        xpbd_distance(xi, 1.0 / mi, xj, 1.0 / mj, rest, 0.0, 0.0, Vec3::Zero(), Vec3::Zero(), 0.0);
+    // One projection of a single rigid constraint meets it exactly (up to round-off).
+    EXPECT_NEAR(((xj + d.dxj) - (xi + d.dxi)).norm(), rest, 1e-14);
+    // Corrections weighted by inverse mass: m_i·Δx_i + m_j·Δx_j = 0 (no momentum change).
+    EXPECT_LT((mi * d.dxi + mj * d.dxj).norm(), 1e-14);
+  }
+}
+
+TEST(XpbdDistance, ComplianceGivesTheClosedFormCorrection) {
+  // One spring, one particle free (w_i = 0): Δλ = −C/(w_j + α̃), so the stretch left after the
+  // step is C·α̃/(w_j + α̃) — the backward-Euler balance of k·stretch with the inertia m/h².
+  const Vec3 xi(0.0, 0.0, 0.0), xj(1.5, 0.0, 0.0);
+  const double k = 100.0, h = 0.01, m = 0.02, rest = 1.0;
+  const double alpha_tilde = 1.0 / (k * h * h);
+  const DistanceCorrection d =
+      xpbd_distance(xi, 0.0, xj, 1.0 / m, rest, alpha_tilde, 0.0, Vec3::Zero(), Vec3::Zero(), 0.0);
+  const double c = 0.5;
+  const double left = c * alpha_tilde / (1.0 / m + alpha_tilde);
+  EXPECT_EQ(d.dxi, Vec3::Zero());
+  EXPECT_NEAR((xj + d.dxj).x() - rest, left, 1e-14);
+  EXPECT_NEAR(d.dlambda, -c / (1.0 / m + alpha_tilde), 1e-14);
+}
+
+TEST(XpbdDistance, DampingResistsTheRelativeMotionAlongTheSpring) {
+  // At rest length (C = 0) only damping acts: ends separating along the spring are pulled
+  // back together, by more as γ grows, and never past their previous separation.
+  const Vec3 xi(0.0, 0.0, 0.0), xj(1.0, 0.0, 0.0), moved_j(0.1, 0.0, 0.0);
+  double last = 0.0;
+  for (double gamma : {0.5, 2.0, 8.0}) {
+    const DistanceCorrection d =
+        xpbd_distance(xi, 1.0, xj, 1.0, 1.0, 1.0, gamma, Vec3::Zero(), moved_j, 0.0);
+    EXPECT_LT(d.dxj.x(), 0.0);
+    EXPECT_GT(d.dxi.x(), 0.0);
+    EXPECT_GT(-d.dxj.x(), last);
+    EXPECT_LT(-d.dxj.x() - d.dxi.x(), moved_j.x());
+    last = -d.dxj.x();
+  }
+}
+
+TEST(LongRangeConstraint, ProjectsOntoTheLimitAndRemovesOnlyOutwardVelocity) {
+  const Vec3 anchor(1.0, 2.0, 3.0);
+  Vec3 x = anchor + Vec3(3.0, 4.0, 0.0);  // 5 m away
+  const Vec3 u = project_attachment(anchor, 2.0, x);
+  EXPECT_NEAR((x - anchor).norm(), 2.0, 1e-15);
+  EXPECT_NEAR((u - Vec3(0.6, 0.8, 0.0)).norm(), 0.0, 1e-15);
+  Vec3 v(1.0, 1.0, 1.0);  // outward along u by 1.4
+  clamp_outward_velocity(u, v);
+  EXPECT_NEAR(v.dot(u), 0.0, 1e-15);
+  EXPECT_NEAR(v.z(), 1.0, 1e-15);  // the tangential part is untouched
+  Vec3 inward = -u;                // moving back toward the pin: kept
+  clamp_outward_velocity(u, inward);
+  EXPECT_EQ(inward, -u);
+  Vec3 inside = anchor + Vec3(0.5, 0.0, 0.0);  // within the limit: unconstrained
+  EXPECT_EQ(project_attachment(anchor, 2.0, inside), Vec3::Zero());
+  EXPECT_EQ(inside, anchor + Vec3(0.5, 0.0, 0.0));
+}
+
+TEST(ImplicitStep, SpringBlockMatchesFiniteDifferencesOfTheForcesOnStretchedSprings) {
+  // The Newton matrix block of a spring must be −(h²·∂f_i/∂x_i + h·∂f_i/∂v_i): checked column
+  // by column against central differences of the elastic and damping forces (step 1e-6,
+  // error O(eps²)·|f'''| ≈ 1e-10 relative). Stretched springs only: the clamp changes
+  // compressed ones on purpose.
+  const double eps = 1e-6, h = 1.0 / 60.0;
+  for (int seed = 1; seed <= 10; ++seed) {
+    const Vec3 xi = random_vec(seed), vi = random_vec(seed + 7), vj = random_vec(seed + 9);
+    const Vec3 dir = random_vec(seed + 100).normalized();
+    const double k = 500.0 + 10 * seed, c = 0.3 + 0.1 * seed, rest = 0.5;
+    const Vec3 xj = xi + (rest * (1.05 + 0.05 * seed)) * dir;  // 10% to 55% stretched
+    const Mat3 block = forces::implicit_spring_block(xi, xj, k, rest, c, h);
+    for (int a = 0; a < 3; ++a) {
+      Vec3 xp = xi, xm = xi, vp = vi, vm = vi;
+      xp[a] += eps;
+      xm[a] -= eps;
+      vp[a] += eps;
+      vm[a] -= eps;
+      const Vec3 dfdx =
+          (forces::spring_elastic(xp, xj, k, rest) - forces::spring_elastic(xm, xj, k, rest)) /
+          (2 * eps);
+      const Vec3 dfdv =
+          (forces::spring_damping(xi, xj, vp, vj, c) - forces::spring_damping(xi, xj, vm, vj, c)) /
+          (2 * eps);
+      const Vec3 expected = -(h * h * dfdx + h * dfdv);
+      EXPECT_LT((block.col(a) - expected).norm(), 1e-7 * (1.0 + expected.norm()))
+          << "seed " << seed << " column " << a;
+    }
+  }
+}
+
+TEST(ImplicitStep, SpringBlockOfACompressedSpringStaysPositiveSemiDefinite) {
+  const Vec3 xi(0.0, 0.0, 0.0), xj(0.3, 0.2, 0.1);  // length 0.37 < rest 1: compressed
+  const Mat3 block = forces::implicit_spring_block(xi, xj, 1000.0, 1.0, 0.5, 1.0 / 60.0);
+  const Eigen::SelfAdjointEigenSolver<Mat3> eig(block);
+  EXPECT_GE(eig.eigenvalues().minCoeff(), -1e-12);
+}
+
+// ---- Every new method -----------------------------------------------------------------------
+
+std::string method_name(const ::testing::TestParamInfo<Method>& p) {
+  return to_string(p.param);
+}
+
+class EachMethod : public ::testing::TestWithParam<Method> {};
+
+TEST_P(EachMethod, FreeFallMatchesItsDiscreteSolutionAndTheClosedForm) {
+  // Each method's discrete free fall from rest is v_n = n·h·g, x_n = x₀ + h²·g·n(n+1)/2:
+  // implicit's Newton step starts from Δv = h·g and its residual is then zero; xpbd's
+  // springs stay at rest length; fast's first global step lands on y. Round-off allowance
+  // 1e-12 relative (hundreds of additions of a few ulps each); for fast 1e-10, since its
+  // positions come out of a sparse Cholesky solve whose error, about κ·ε per step with
+  // κ ≈ 1 + 8h²k/m ≈ 300 here, is divided by h to make the velocity.
+  SceneDef def = bare(GetParam());
+  def.forces.gravity = Vec3(0.0, -9.81, 0.0);
+  const double ro = GetParam() == Method::fast ? 1e-10 : 1e-12;
+  Simulation sim(def);
+  const std::vector<Vec3> x0 = sim.state().x;
+  const int frames = 60;
+  for (int f = 0; f < frames; ++f) ASSERT_TRUE(sim.step()) << sim.divergence();
+  const double h = def.solver.dt / sim.substeps_per_frame();
+  const double n = frames * sim.substeps_per_frame(), t = n * h, g = 9.81;
+  const double discrete = -h * h * g * n * (n + 1) / 2;
+  const double closed = -0.5 * g * t * t;
+  for (int32_t i = 0; i < sim.model().size(); ++i) {
+    const double drop = sim.state().x[i].y() - x0[i].y();
+    EXPECT_NEAR(drop, discrete, ro * std::abs(discrete));
+    EXPECT_LE(std::abs(drop - closed), 0.5 * g * h * t * (1 + 1e-9));  // first order: ½ghT
+    EXPECT_NEAR(sim.state().v[i].y(), -g * t, ro * g * t);
+    EXPECT_NEAR(sim.state().x[i].x(), x0[i].x(), ro);  // and straight down
+  }
+}
+
+TEST_P(EachMethod, MomentumIsConservedWithNoExternalForces) {
+  // Every spring force, damping, constraint correction and global-step row pairs equal and
+  // opposite, so momentum is exact up to round-off — except the implicit method's CG, whose
+  // residual r = b − A·Δv sums to the momentum error: with cg_tolerance 1e-10 that is below
+  // 1e-8 of the momentum scale per run — and fast, whose global solve's round-off (κ·ε per
+  // step, divided by h, ~2e-12 per frame here) adds up to 1e-9 over the run.
+  SceneDef def = bare(GetParam());
+  def.cloth.perturbation = 0.02;  // start strained, so the springs work hard
+  def.solver.cg_tolerance = 1e-10;
+  Simulation sim(def);
+  sim.grab(5);
+  sim.release(Vec3(1.0, -2.0, 3.0));  // a kick: the cloth now moves and tumbles
+  const Vec3 p0 = momentum(sim);
+  ASSERT_GT(p0.norm(), 0.01);
+  const double tolerance = GetParam() == Method::implicit ? 1e-8
+                           : GetParam() == Method::fast   ? 1e-9
+                                                          : 1e-12;
+  for (int f = 0; f < 120; ++f) {
+    ASSERT_TRUE(sim.step()) << sim.divergence();
+    EXPECT_LT((momentum(sim) - p0).norm(), tolerance * (1.0 + p0.norm())) << "frame " << f;
+  }
+}
+
+TEST_P(EachMethod, SameSceneTwiceGivesBitIdenticalState) {
+  SceneDef def = shipped("sphere");
+  def.solver.method = GetParam();
+  def.cloth.cols = def.cloth.rows = 16;
+  Simulation a(def), b(def);
+  for (int f = 0; f < 90; ++f) {
+    ASSERT_TRUE(a.step()) << a.divergence();
+    ASSERT_TRUE(b.step());
+  }
+  ASSERT_EQ(std::memcmp(a.state().x.data(), b.state().x.data(), a.state().x.size() * sizeof(Vec3)),
+            0);
+  ASSERT_EQ(std::memcmp(a.state().v.data(), b.state().v.data(), a.state().v.size() * sizeof(Vec3)),
+            0);
+}
+
+TEST_P(EachMethod, PinsAndTheHandUpdateWhatDependsOnThemAtOnce) {
+  // Pinning, dragging and releasing change which particles are free: the factorisation
+  // (fast), the filter (implicit) and the attachments must follow at once.
+  SceneDef def = shipped("hang");
+  def.solver.method = GetParam();
+  def.cloth.cols = def.cloth.rows = 12;
+  def.cloth.long_range.enabled = true;
+  Simulation sim(def);
+  for (int f = 0; f < 30; ++f) ASSERT_TRUE(sim.step()) << sim.divergence();
+  const int32_t p = sim.model().index(6, 11);
+  sim.set_pinned(p, true);
+  const Vec3 held = sim.state().x[p];
+  for (int f = 0; f < 30; ++f) ASSERT_TRUE(sim.step()) << sim.divergence();
+  EXPECT_EQ(sim.state().x[p], held);  // exactly: a pinned particle never moves
+  sim.set_pinned(p, false);
+  const int32_t q = sim.model().index(3, 8);
+  sim.grab(q);
+  const Vec3 target = sim.state().x[q] + Vec3(0.0, 0.0, 0.3);
+  sim.move_grab(target);
+  for (int f = 0; f < 30; ++f) ASSERT_TRUE(sim.step()) << sim.divergence();
+  EXPECT_EQ(sim.state().x[q], target);  // the hand holds it exactly
+  sim.release();
+  for (int f = 0; f < 30; ++f) ASSERT_TRUE(sim.step()) << sim.divergence();
+  EXPECT_NE(sim.state().x[q], target);  // free again: it falls back
+  EXPECT_EQ(sim.diagnostics().pinned_drift, 0.0);
+}
+
+INSTANTIATE_TEST_SUITE_P(NewMethods, EachMethod,
+                         ::testing::Values(Method::implicit, Method::xpbd, Method::fast),
+                         method_name);
+
+// ---- Stability at the frame step with stiff springs -----------------------------------------
+
+struct StiffCase {
+  Method method;
+  const char* scene;
+};
+
+std::string stiff_case_name(const ::testing::TestParamInfo<StiffCase>& p) {
+  return std::string(to_string(p.param.method)) + "_" + p.param.scene;
+}
+
+class StiffAtTheFrameStep : public ::testing::TestWithParam<StiffCase> {};
+
+TEST_P(StiffAtTheFrameStep, StaysFiniteRestsAndKeepsOutOfTheSphere) {
+  // 64×64, structural stiffness 1e5 N/m (h²k/m ≈ 110 at h = 1/60 s: far past any explicit
+  // bound), one step per frame for implicit and fast, the default substeps for xpbd.
+  SceneDef def = shipped(GetParam().scene);
+  def.cloth.cols = def.cloth.rows = 64;
+  def.cloth.structural.stiffness = 1e5;
+  def.solver.method = GetParam().method;
+  Simulation sim(def);
+  if (def.solver.method != Method::xpbd) {
+    EXPECT_EQ(sim.substeps_per_frame(), 1);
+  }
+  const std::string scene = GetParam().scene;
+  // hang: until at rest (kinetic energy under 1e-4 J: speeds of about 1 cm/s for the 1 kg
+  // cloth), at most 4 s; wind: 1 s of gusts; sphere: 2 s (it lands at about 1.2 s).
+  const double seconds = scene == "hang" ? 4.0 : scene == "wind" ? 1.0 : 2.0;
+  bool rested = false;
+  while (sim.time() < seconds - 1e-9) {
+    ASSERT_TRUE(sim.step()) << sim.divergence();
+    if (scene == "hang" && sim.time() > 0.5 && sim.diagnostics().kinetic_energy < 1e-4) {
+      rested = true;
+      break;
+    }
+  }
+  const Diagnostics d = sim.diagnostics();
+  EXPECT_TRUE(d.finite);
+  EXPECT_EQ(d.pinned_drift, 0.0);
+  if (scene == "hang") {
+    EXPECT_TRUE(rested) << "kinetic energy " << d.kinetic_energy;
+  }
+  if (scene == "sphere") {
+    EXPECT_EQ(d.max_penetration, 0.0);  // contacts are resolved last in every substep
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    NewMethods, StiffAtTheFrameStep,
+    ::testing::Values(StiffCase{Method::implicit, "hang"}, StiffCase{Method::implicit, "wind"},
+                      StiffCase{Method::implicit, "sphere"}, StiffCase{Method::fast, "hang"},
+                      StiffCase{Method::fast, "wind"}, StiffCase{Method::fast, "sphere"},
+                      StiffCase{Method::xpbd, "hang"}, StiffCase{Method::xpbd, "wind"},
+                      StiffCase{Method::xpbd, "sphere"}),
+    stiff_case_name);
+
+// ---- Same physics: static equilibrium and attachments --------------------------------------
+
+TEST(StaticEquilibrium, FourCornerSagMatchesSymplecticWithEveryMethod) {
+  // A horizontal 16×16 cloth pinned at its four corners sags to rest. Spring damping 2 N·s/m
+  // so the symplectic reference settles within 12 s. xpbd needs 200 substeps (not its
+  // automatic 12): with one Gauss–Seidel sweep per substep the cloth-wide stiffness converges
+  // slowly, and at 12 substeps it sags about 25% further; at 200 it is within 1%.
+  SceneDef def;
+  def.cloth.cols = def.cloth.rows = 16;
+  def.cloth.orientation = Orientation::horizontal;
+  def.cloth.origin = Vec3(-1.0, 1.0, -1.0);
+  def.cloth.pins = {{0, 0}, {-1, 0}, {0, -1}, {-1, -1}};
+  def.cloth.perturbation = 0.0;
+  def.cloth.structural.damping = def.cloth.shear.damping = 2.0;
+  auto rest_shape = [&](Method m, int substeps) {
+    SceneDef d = def;
+    d.solver.method = m;
+    d.solver.substeps = substeps;
+    Simulation sim(d);
+    while (sim.time() < 12.0 - 1e-9) EXPECT_TRUE(sim.step()) << sim.divergence();
+    EXPECT_LT(sim.diagnostics().kinetic_energy, 1e-4) << to_string(m);
+    return sim.state().x;
+  };
+  const std::vector<Vec3> reference = rest_shape(Method::symplectic, 0);
+  double peak_sag = 0.0;
+  for (const Vec3& x : reference) peak_sag = std::max(peak_sag, 1.0 - x.y());
+  ASSERT_GT(peak_sag, 0.05);
+  for (auto [method, substeps] :
+       {std::pair{Method::implicit, 0}, std::pair{Method::fast, 0}, std::pair{Method::xpbd, 200}}) {
+    const std::vector<Vec3> x = rest_shape(method, substeps);
+    double worst = 0.0;
+    for (size_t i = 0; i < x.size(); ++i) worst = std::max(worst, (x[i] - reference[i]).norm());
+    EXPECT_LE(worst, 0.05 * peak_sag) << to_string(method);
+  }
+}
+
+class LongRangeOnHang : public ::testing::TestWithParam<Method> {};
+
+TEST_P(LongRangeOnHang, KeepsStructuralStrainWithinOnePercent) {
+  // hang at 64×64 with its default springs, which alone stretch about 3% under the cloth's
+  // weight (the point pins concentrate it); with attachments at slack 0 the strain at rest
+  // stays within 1% for every method. 2 s is enough to settle with attachments on.
+  SceneDef def = shipped("hang");
+  def.cloth.cols = def.cloth.rows = 64;
+  def.cloth.long_range.enabled = true;
+  def.solver.method = GetParam();
+  Simulation sim(def);
+  while (sim.time() < 2.0 - 1e-9) ASSERT_TRUE(sim.step()) << sim.divergence();
+  const Diagnostics d = sim.diagnostics();
+  EXPECT_LT(d.kinetic_energy, 1e-3);
+  EXPECT_LE(d.max_strain, 0.01);
+}
+
+INSTANTIATE_TEST_SUITE_P(EveryMethod, LongRangeOnHang,
+                         ::testing::Values(Method::symplectic, Method::implicit, Method::xpbd,
+                                           Method::fast),
+                         method_name);
+
+TEST(LongRange, SlackAllowsThatMuchMoreDistanceFromEachPin) {
+  // With slack s, no free particle ends farther from a pin than (1 + s)·its rest distance.
+  SceneDef def = shipped("hang");
+  def.cloth.cols = def.cloth.rows = 16;
+  def.cloth.structural.stiffness = 200.0;  // soft: without the limit it would stretch ~20%
+  def.cloth.long_range = {true, 0.05};
+  Simulation sim(def);
+  for (int f = 0; f < 60; ++f) ASSERT_TRUE(sim.step()) << sim.divergence();
+  const ClothModel& m = sim.model();
+  double worst = 0.0, tightest = 1e9;
+  for (int32_t a : {m.index(0, 0), m.index(m.cols - 1, 0)}) {
+    for (int32_t p = 0; p < m.size(); ++p) {
+      if (p == a) continue;
+      const double rest = (m.rest_position[p] - m.rest_position[a]).norm();
+      const double ratio = (sim.state().x[p] - sim.state().x[a]).norm() / rest;
+      worst = std::max(worst, ratio);
+      tightest = std::min(tightest, 1.05 - ratio);
+    }
+  }
+  EXPECT_LE(worst, 1.05 + 1e-12);  // the projection is the last word on positions
+  EXPECT_LT(tightest, 0.01);       // and the limit is reached: the soft cloth leans on it
+}
+
+// ---- Scene keys --------------------------------------------------------------------------
+
+TEST(SolverKeys, MethodsAndLongRangeReadWriteAndRoundTrip) {
+  using nlohmann::json;
+  const json base = io::to_json(SceneDef{});
+  for (const char* m : {"symplectic", "implicit", "xpbd", "fast"}) {
+    json j = base;
+    j["solver"]["method"] = m;
+    EXPECT_STREQ(to_string(io::parse_scene(j, "t").solver.method), m);
+  }
+  json j = base;
+  j["cloth"]["long_range"] = true;
+  EXPECT_TRUE(io::parse_scene(j, "t").cloth.long_range.enabled);
+  EXPECT_EQ(io::parse_scene(j, "t").cloth.long_range.slack, 0.0);
+  j["cloth"]["long_range"] = json{{"slack", 0.1}};
+  const SceneDef def = io::parse_scene(j, "t");
+  EXPECT_TRUE(def.cloth.long_range.enabled);
+  EXPECT_EQ(def.cloth.long_range.slack, 0.1);
+  EXPECT_EQ(io::to_json(io::parse_scene(io::to_json(def), "t")), io::to_json(def));
+  j["solver"]["iterations"] = 7;
+  j["solver"]["cg_tolerance"] = 1e-7;
+  j["solver"]["cg_max_iterations"] = 99;
+  j["solver"]["chebyshev_rho"] = 0.5;
+  const SceneDef s = io::parse_scene(j, "t");
+  EXPECT_EQ(s.solver.iterations, 7);
+  EXPECT_EQ(s.solver.cg_tolerance, 1e-7);
+  EXPECT_EQ(s.solver.cg_max_iterations, 99);
+  EXPECT_EQ(s.solver.chebyshev_rho, 0.5);
+  EXPECT_EQ(io::to_json(io::parse_scene(io::to_json(s), "t")), io::to_json(s));
+}
+
+TEST(SolverKeys, BadValuesNameTheFieldAndTheProblem) {
+  using nlohmann::json;
+  auto error = [](const std::function<void(json&)>& edit) {
+    json j = io::to_json(SceneDef{});
+    edit(j);
+    try {
+      io::parse_scene(j, "scene.json");
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_NE(error([](json& j) { j["cloth"]["long_range"] = "yes"; }).find("cloth.long_range"),
+            std::string::npos);
+  EXPECT_NE(error([](json& j) {
+              j["cloth"]["long_range"] = json{{"slak", 0.1}};
+            }).find("did you mean \"slack\""),
+            std::string::npos);
+  EXPECT_NE(error([](json& j) {
+              j["cloth"]["long_range"] = json{{"slack", -1}};
+            }).find("cloth.long_range.slack"),
+            std::string::npos);
+  EXPECT_NE(error([](json& j) { j["solver"]["cg_tolerance"] = 0; }).find("solver.cg_tolerance"),
+            std::string::npos);
+  EXPECT_NE(error([](json& j) { j["solver"]["chebyshev_rho"] = 1; }).find("solver.chebyshev_rho"),
+            std::string::npos);
+  EXPECT_NE(error([](json& j) { j["solver"]["iterations"] = -1; }).find("solver.iterations"),
+            std::string::npos);
+  EXPECT_NE(error([](json& j) { j["solver"]["method"] = "implict"; }).find("\"implicit\""),
+            std::string::npos);
+}
+
+TEST(XpbdSubsteps, AutomaticSubstepsReachTheSpringsStiffness) {
+  // m/h² ≥ k for the stiffest spring at its lighter end: h ≤ sqrt(m/k).
+  SceneDef def = shipped("hang");
+  def.solver.method = Method::xpbd;
+  Simulation sim(def);
+  const double m = def.cloth.mass / (def.cloth.cols * def.cloth.rows);
+  const double h = def.solver.dt / sim.substeps_per_frame();
+  EXPECT_GE(m / (h * h), def.cloth.structural.stiffness);
+  const double h_fewer = def.solver.dt / (sim.substeps_per_frame() - 1);
+  EXPECT_LT(m / (h_fewer * h_fewer), def.cloth.structural.stiffness);  // and no more than that
+}
+
+}  // namespace
+}  // namespace drape
