@@ -207,6 +207,23 @@ TEST_F(Cli, DivergenceExitsThreeWithFrameAndHintAndStillWritesStats) {
   EXPECT_EQ(s["diverged_frame"], 1);
 }
 
+TEST_F(Cli, AStiffSceneExplodesWithSymplecticAndRunsWithImplicit) {
+  const std::string stiff = "run " + scene("hang") +
+                            " --seconds 1 --set cloth.springs.structural.stiffness=1e9"
+                            " --set solver.substeps=1 --stats ";
+  const Result explicit_run = drape(stiff + path("symplectic.json"));
+  EXPECT_EQ(explicit_run.code, 3) << explicit_run.output;
+  EXPECT_NE(explicit_run.output.find("diverged at frame 1"), std::string::npos);
+  EXPECT_NE(explicit_run.output.find("symplectic method"), std::string::npos);
+  EXPECT_NE(explicit_run.output.find("implicit method"), std::string::npos);  // the hint
+  EXPECT_EQ(read_json(path("symplectic.json"))["status"], "diverged");
+  const Result implicit_run = drape(stiff + path("implicit.json") + " --set solver.method=implicit");
+  EXPECT_EQ(implicit_run.code, 0) << implicit_run.output;
+  const json s = read_json(path("implicit.json"));
+  EXPECT_EQ(s["status"], "ok");
+  EXPECT_EQ(s["finite"], true);
+}
+
 TEST_F(Cli, WildButLegalValuesEndWithinSecondsAsOkOrDiverged) {
   // Stiffness 1e308 at a fixed substep: forces overflow; the run must stop, not hang or lie.
   const Result r = drape("run " + scene("hang") +

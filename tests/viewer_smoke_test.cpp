@@ -244,6 +244,24 @@ TEST_F(ViewerSmoke, VideoFramesArePipedToFfmpeg) {
   EXPECT_FALSE(fs::exists(path("out"))) << "no PNG folder in the working folder without --out";
 }
 
+TEST_F(ViewerSmoke, RenderInterruptedKeepsTheFramesSoFarAndExits130) {
+  const std::string out = path("interrupted");
+  const Result r = shell("bash -c '" + std::string(DRAPE_EXE) + " render " + scene("hang") +
+                         " --frames 100000 --every 5 --size 200x150 --quiet --out " + out +
+                         " & pid=$!; sleep 2; kill -INT $pid; wait $pid'");
+  if (r.code == kNoGraphics) GTEST_SKIP() << "no EGL context: " << r.output;
+  EXPECT_EQ(r.code, 130) << r.output;
+  // Whole PNGs only: the first frame, and the frame the run stopped at.
+  int pictures = 0;
+  for (const auto& entry : fs::directory_iterator(out)) {
+    EXPECT_EQ(entry.path().extension(), ".png") << entry.path();
+    EXPECT_GT(fs::file_size(entry.path()), 100u) << entry.path();
+    ++pictures;
+  }
+  EXPECT_GE(pictures, 2);
+  EXPECT_TRUE(fs::exists(fs::path(out) / "frame_00000.png"));
+}
+
 TEST_F(ViewerSmoke, WithoutADisplayTheViewerSaysSoAndExits) {
   const Result r = shell(std::string("env -u DISPLAY -u WAYLAND_DISPLAY ") + DRAPE_EXE + " view " +
                          scene("hang"));

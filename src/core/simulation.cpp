@@ -43,27 +43,48 @@ void Simulation::rebase_energy() {
   external_work_ = 0.0;
 }
 
+namespace {
+
+// What to try when a method blows up.
+const char* divergence_hint(Method m) {
+  switch (m) {
+    case Method::symplectic:
+      return "try a smaller solver.dt, more solver.substeps (0 = automatic), lower stiffness, or "
+             "the implicit method";
+    case Method::implicit:
+      return "try a smaller solver.dt, more solver.substeps, a smaller solver.cg_tolerance or "
+             "more solver.cg_max_iterations";
+    case Method::xpbd:
+      return "try more solver.substeps or solver.iterations, or a smaller solver.dt";
+    case Method::fast:
+      return "try more solver.iterations, more solver.substeps, or the implicit method";
+  }
+  return "";
+}
+
+}  // namespace
+
 bool Simulation::step() {
   if (diverged()) return false;
   World world{model_, state_, def_.forces, colliders_, time(), def_.cloth.long_range};
   solver_->step_frame(world, def_.solver.dt);
   ++frame_;
 
-  // Divergence watch. Kinetic, spring and gravity energy together may only fall, except by the
-  // work the wind does (bounded by Σ|f·v| over the frame) and what the user's hand puts in
-  // (the reference is rebased while a particle is held). A blow-up grows exponentially, so a
-  // tolerance of ½·M·(1 m/s)² + M·|g|·(cloth diagonal), far above any integration error of a
-  // stable run, separates the two within a frame.
+  // Divergence watch. The energy now may not exceed what the start state (kinetic, spring and
+  // gravity energy at the last rebase), gravity's work since and the wind's work (bounded by
+  // Σ|f·v| over each frame) can supply; the reference is rebased while the user's hand holds a
+  // particle. For the iterative methods the springs' present energy is not counted, only the
+  // kinetic: stopping short of convergence leaves springs stretched, which is inaccuracy, not a
+  // blow-up (Solver::stretch_is_energy). A blow-up grows exponentially, so a tolerance of
+  // ½·M·(1 m/s)² + M·|g|·(cloth diagonal), far above any stable run's error, catches it within a
+  // frame.
   bool finite = true;
   for (int32_t i = 0; i < model_.size() && finite; ++i)
     finite = state_.x[i].allFinite() && state_.v[i].allFinite();
-  const std::string method = to_string(def_.solver.method);
-  const char* hint =
-      "; try a smaller solver.dt, more solver.substeps (0 = automatic), lower stiffness, or the "
-      "implicit method";
+  const std::string method = std::string(" with the ") + to_string(def_.solver.method) +
+                             " method; " + divergence_hint(def_.solver.method);
   if (!finite) {
-    divergence_ = "the state became non-finite (NaN or infinity) with the " + method +
-                  " method" + hint;
+    divergence_ = "the state became non-finite (NaN or infinity)" + method;
   } else {
     if (def_.forces.wind.strength > 0.0)
       external_work_ += def_.solver.dt * forces::wind_power(model_, state_, def_.forces.wind,
@@ -72,15 +93,17 @@ bool Simulation::step() {
     const double mass = def_.cloth.mass;
     const double diagonal = std::hypot(def_.cloth.width, def_.cloth.height);
     const double tolerance = 0.5 * mass + mass * def_.forces.gravity.norm() * diagonal;
-    const double energy = mechanical_energy();
-    const double excess = energy - energy_ref_ - external_work_;
-    if (excess > tolerance) {
+    double energy = forces::kinetic_energy(model_, state_.v);
+    if (solver_->stretch_is_energy()) energy += forces::spring_energy(model_, state_.x);
+    const double supplied = energy_ref_ + external_work_ -
+                            forces::gravity_energy(model_, state_.x, def_.forces.gravity);
+    if (energy - supplied > tolerance) {
       char buf[200];
       std::snprintf(buf, sizeof buf,
-                    "the energy grew by %.3g J, more than gravity, wind and the start state can "
-                    "supply (tolerance %.3g J), with the ",
-                    excess, tolerance);
-      divergence_ = buf + method + " method" + hint;
+                    "the energy grew to %.3g J, more than the %.3g J that gravity, wind and the "
+                    "start state can supply (tolerance %.3g J)",
+                    energy, supplied, tolerance);
+      divergence_ = buf + method;
     }
   }
   if (diverged()) diverged_frame_ = frame_;

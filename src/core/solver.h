@@ -31,6 +31,11 @@ class Solver {
   /// Advances one frame of dt. Leaves state.normal up to date.
   virtual void step_frame(World& world, double dt) = 0;
   virtual int substeps() const = 0;
+  /// Whether the springs' elastic energy in the state this method leaves is energy the method
+  /// put there. True for an exact explicit update; false for methods that stop iterating short
+  /// of convergence (their leftover stretch is solver error), so the divergence watch leaves
+  /// spring energy out of its budget for them and watches kinetic energy.
+  virtual bool stretch_is_energy() const { return false; }
 };
 
 std::unique_ptr<Solver> make_solver(Method method);

@@ -84,6 +84,7 @@ class Symplectic final : public Solver {
   }
 
   int substeps() const override { return substeps_; }
+  bool stretch_is_energy() const override { return true; }
 
  private:
   int substeps_ = 1;
