@@ -218,18 +218,7 @@ int render(const RenderOptions& o) {
       std::printf("  pictures in %s/, the last: %s\n", out.c_str(), last_file.c_str());
     if (video) std::printf("  video: %s\n", o.video.c_str());
   }
-  if (sim->diverged()) {
-    std::fprintf(stderr, "drape: error: %s: diverged at frame %lld (t = %.4g s): %s\n",
-                 o.scene.c_str(), static_cast<long long>(sim->diverged_frame()), sim->time(),
-                 sim->divergence().c_str());
-    return kExitDiverged;
-  }
-  if (result.status == RunStatus::interrupted) {
-    std::fprintf(stderr, "drape: interrupted at frame %lld; the frames so far are kept\n",
-                 static_cast<long long>(sim->frame()));
-    return interrupt_exit_code(result.signal);
-  }
-  return kExitOk;
+  return exit_code(o.scene, *sim, result, "the frames so far are kept");
 }
 
 }  // namespace

@@ -145,18 +145,7 @@ int run(const RunOptions& o) {
                   o.format.c_str(), o.export_dir.c_str());
     if (!o.stats.empty()) std::printf("  stats written to %s\n", o.stats.c_str());
   }
-  if (sim->diverged()) {
-    std::fprintf(stderr, "drape: error: %s: diverged at frame %lld (t = %.4g s): %s\n",
-                 o.scene.c_str(), static_cast<long long>(sim->diverged_frame()), sim->time(),
-                 sim->divergence().c_str());
-    return kExitDiverged;
-  }
-  if (result.status == RunStatus::interrupted) {
-    std::fprintf(stderr, "drape: interrupted at frame %lld; stats and exports so far are kept\n",
-                 static_cast<long long>(sim->frame()));
-    return interrupt_exit_code(result.signal);
-  }
-  return kExitOk;
+  return exit_code(o.scene, *sim, result, "stats and exports so far are kept");
 }
 
 }  // namespace

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "app/commands.h"
 #include "app/terminal.h"
 #include "drape/error.h"
 
@@ -91,6 +92,22 @@ void check_work(const Simulation& sim, int64_t frames, const Budget& budget) {
                 static_cast<long long>(frames), sim.substeps_per_frame(), sim.model().size(),
                 sim.model().springs.size(), updates, budget.updates);
   throw InputError("duration", problem);
+}
+
+int exit_code(const std::string& scene, const Simulation& sim, const RunResult& run,
+              const char* kept) {
+  if (sim.diverged()) {
+    std::fprintf(stderr, "drape: error: %s: diverged at frame %lld (t = %.4g s): %s\n",
+                 scene.c_str(), static_cast<long long>(sim.diverged_frame()), sim.time(),
+                 sim.divergence().c_str());
+    return kExitDiverged;
+  }
+  if (run.status == RunStatus::interrupted) {
+    std::fprintf(stderr, "drape: interrupted at frame %lld; %s\n",
+                 static_cast<long long>(sim.frame()), kept);
+    return interrupt_exit_code(run.signal);
+  }
+  return kExitOk;
 }
 
 nlohmann::json stats_json(const Simulation& sim, const RunResult& run) {

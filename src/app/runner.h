@@ -51,6 +51,11 @@ void check_memory(const SceneDef& def, const Budget& budget = {});
 /// Throws InputError (at duration) if `frames` frames of `sim` would exceed the budget.
 void check_work(const Simulation& sim, int64_t frames, const Budget& budget = {});
 
+/// The exit code for a finished run: 0, 3 (diverged: reported with the frame, the reason and a
+/// hint) or 130/143 (interrupted: reported with the frame and what was kept, `kept`).
+int exit_code(const std::string& scene, const Simulation& sim, const RunResult& run,
+              const char* kept);
+
 /// The stats other tools read (keys documented in the README).
 nlohmann::json stats_json(const Simulation& sim, const RunResult& run);
 
