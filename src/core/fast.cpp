@@ -26,7 +26,6 @@
 #include <cmath>
 #include <vector>
 
-#include <omp.h>
 
 #include "drape/error.h"
 #include "forces.h"
@@ -259,11 +258,10 @@ class Fast final : public Solver {
   }
 
   // 3. Global step: L·Lᵀ·(P·x) = P·b, the three coordinates side by side (one thread each),
-  // in place. The
-  // result stays permuted: unknown f is row perm_[f].
+  // in place. The result stays permuted: unknown f is row perm_[f].
   void global_solve() {
     if (free_count_ == 0) return;
-    const int threads = std::min(3, omp_get_max_threads());
+    [[maybe_unused]] const int threads = std::min(3, max_threads());
 #pragma omp parallel for schedule(static) num_threads(threads) if (worth_threads(free_count_))
     for (int c = 0; c < 3; ++c) {
       auto col = X_.col(c);

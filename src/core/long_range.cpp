@@ -15,7 +15,7 @@ void LongRange::prepare(const ClothModel& model, const ClothState& state, const 
 void LongRange::apply(const ClothModel& model, ClothState& state, bool fix_velocity) const {
   if (pins_.empty()) return;
   const int32_t n = model.size();
-  const int64_t work = int64_t{n} * static_cast<int64_t>(pins_.size());
+  [[maybe_unused]] const int64_t work = int64_t{n} * static_cast<int64_t>(pins_.size());
   // Pins hold inverse mass 0, so reading x[a] while other threads write x[p] is no race.
 #pragma omp parallel for schedule(static) if (worth_threads(work))
   for (int32_t p = 0; p < n; ++p) {

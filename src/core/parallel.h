@@ -5,11 +5,24 @@
 
 #include <cstdint>
 
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
 namespace drape {
 
 inline constexpr int64_t kParallelMin = 8192;  ///< items per loop before threads are used
 
 inline bool worth_threads(int64_t items) { return items >= kParallelMin; }
+
+/// Threads a parallel region may use (1 in a build without OpenMP).
+inline int max_threads() {
+#ifdef _OPENMP
+  return omp_get_max_threads();
+#else
+  return 1;
+#endif
+}
 
 }  // namespace drape
 
