@@ -282,6 +282,19 @@ TEST_F(ViewerSmoke, RenderRejectsBadInputWithExitCode2) {
   r = shell(exe + " render " + scene("hang") + " --set cloth.mass=-1 --out " + path("c"));
   EXPECT_EQ(r.code, 2) << r.output;
   EXPECT_NE(r.output.find("cloth.mass"), std::string::npos) << r.output;
+  // The budgets that protect the machine hold for render and view as for run.
+  r = shell(exe + " render " + scene("hang") + " --set cloth.resolution=[3000,3000] --out " +
+            path("d"));
+  EXPECT_EQ(r.code, 2) << r.output;
+  EXPECT_NE(r.output.find("GiB budget"), std::string::npos) << r.output;
+  r = shell(exe + " render " + scene("hang") + " --set solver.dt=1e-6 --frames 100000000 --out " +
+            path("e"));
+  EXPECT_EQ(r.code, 2) << r.output;
+  EXPECT_NE(r.output.find("hours of work"), std::string::npos) << r.output;
+  r = shell("DISPLAY=:0 " + exe + " view " + scene("hang") + " --set cloth.resolution=[3000,3000]");
+  EXPECT_EQ(r.code, 2) << r.output;
+  EXPECT_NE(r.output.find("GiB budget"), std::string::npos) << r.output;
+  for (const char* folder : {"d", "e"}) EXPECT_FALSE(fs::exists(path(folder))) << folder;
   if (!on_path("ffmpeg")) {
     r = shell(exe + " render " + scene("hang") + " --frames 1 --video " + path("v.mp4"));
     EXPECT_EQ(r.code, 2) << r.output;

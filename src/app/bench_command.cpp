@@ -91,6 +91,7 @@ Row bench_one(const BenchOptions& o, const std::string& scene, int n, const std:
   std::optional<Simulation> sim;
   try {
     const SceneDef def = io::load_scene(file, sets);
+    check_memory(def);
     const auto t0 = std::chrono::steady_clock::now();
     sim.emplace(def);
     row.setup_ms =

@@ -128,12 +128,14 @@ int render(const RenderOptions& o) {
   try {
     parse_size("--size", o.size, width, height);
     const SceneDef def = io::load_scene(o.scene, o.sets);
+    frames = o.frames ? *o.frames : frame_count(def);
     try {
+      if (!o.force) check_memory(def);
       sim.emplace(def);
+      if (!o.force) check_work(*sim, frames);
     } catch (const InputError& e) {
       throw InputError(o.scene + ": " + e.path(), e.problem());
     }
-    frames = o.frames ? *o.frames : frame_count(def);
     if (!o.video.empty() && !on_path("ffmpeg"))
       throw InputError("--video",
                        "ffmpeg is not installed (apt-get install ffmpeg); without "
@@ -245,7 +247,9 @@ std::function<int()> add_render_command(CLI::App& app) {
   cmd->add_flag("--wireframe", o->wireframe, "Draw the triangle edges");
   cmd->add_flag("--springs", o->springs, "Draw the structural springs coloured by strain");
   cmd->add_flag("--quiet", o->quiet, "No progress bar and no summary");
-  cmd->add_flag("--force", o->force, "Write into a folder that holds an earlier render's frames");
+  cmd->add_flag("--force", o->force,
+                "Run beyond the memory and work budgets, and write into a folder that holds an "
+                "earlier render's frames");
   return [cmd, o] { return cmd->parsed() ? render(*o) : -1; };
 }
 

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "app/commands.h"
+#include "app/runner.h"
 #include "app/viewer.h"
 #include "drape/error.h"
 #include "io/scene_io.h"
@@ -29,6 +30,7 @@ struct ViewCommandOptions {
   std::string drag;
   bool no_vsync = false;
   bool no_panel = false;
+  bool force = false;
 };
 
 std::array<double, 4> parse_drag(const std::string& text) {
@@ -58,6 +60,13 @@ int view(const ViewCommandOptions& c) {
     if ((!o.screenshot.empty() || o.drag || !o.report.empty()) && o.frames <= 0)
       throw InputError("--frames", "--screenshot, --drag and --report need --frames N (N > 0)");
     def = io::load_scene(o.scene, o.sets);
+    if (!c.force) {
+      try {
+        check_memory(def);
+      } catch (const InputError& e) {
+        throw InputError(o.scene + ": " + e.path(), e.problem());
+      }
+    }
   } catch (const InputError& e) {
     std::fprintf(stderr, "drape: error: %s\n", e.what());
     return kExitBadInput;
@@ -93,6 +102,7 @@ std::function<int()> add_view_command(CLI::App& app) {
                   "With --frames: press at x0,y0, drag to x1,y1 (window units), hold to the end");
   cmd->add_flag("--no-vsync", o->no_vsync, "Draw as fast as possible");
   cmd->add_flag("--no-panel", o->no_panel, "Hide the control panel");
+  cmd->add_flag("--force", o->force, "Open a cloth beyond the memory budget");
   return [cmd, o] { return cmd->parsed() ? view(*o) : -1; };
 }
 

@@ -1,6 +1,7 @@
 #include "render/renderer.h"
 
 #include <algorithm>
+#include <cstdio>
 #include <cmath>
 #include <stdexcept>
 
@@ -519,8 +520,13 @@ void write_png(const std::string& file, int width, int height, const std::vector
   // RGB: the alpha channel is opaque everywhere, and leaving it out keeps the files small.
   std::vector<uint8_t> rgb(rgba.size() / 4 * 3);
   for (size_t i = 0, j = 0; i < rgba.size(); i += 4, j += 3) std::copy_n(&rgba[i], 3, &rgb[j]);
-  if (!stbi_write_png(file.c_str(), width, height, 3, rgb.data(), width * 3))
+  // Through a temporary name and a rename, so a reader never sees half a picture.
+  const std::string tmp = file + ".tmp";
+  if (!stbi_write_png(tmp.c_str(), width, height, 3, rgb.data(), width * 3) ||
+      std::rename(tmp.c_str(), file.c_str()) != 0) {
+    std::remove(tmp.c_str());
     throw std::runtime_error(file + ": cannot write the PNG file");
+  }
 }
 
 }  // namespace drape::render
