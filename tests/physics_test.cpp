@@ -32,32 +32,6 @@ Vec3 centre(const Simulation& sim) {
   return c / sim.model().size();
 }
 
-Vec3 momentum(const Simulation& sim) {
-  Vec3 p = Vec3::Zero();
-  for (int32_t i = 0; i < sim.model().size(); ++i) p += sim.model().mass[i] * sim.state().v[i];
-  return p;
-}
-
-TEST(FreeFall, MatchesTheDiscreteSolutionAndTheClosedForm) {
-  SceneDef def = bare();
-  def.forces.gravity = Vec3(0.0, -9.81, 0.0);
-  Simulation sim(def);
-  const std::vector<Vec3> x0 = sim.state().x;
-  const int frames = 60;
-  for (int f = 0; f < frames; ++f) ASSERT_TRUE(sim.step()) << sim.divergence();
-  const double h = def.solver.dt / sim.substeps_per_frame();
-  const double n = frames * sim.substeps_per_frame(), t = n * h, g = 9.81;
-  // Semi-implicit Euler from rest: v_n = n·h·g, x_n = x0 + h²·g·n(n+1)/2.
-  const double discrete = -h * h * g * n * (n + 1) / 2;
-  const double closed = -0.5 * g * t * t;
-  for (int32_t i = 0; i < sim.model().size(); ++i) {
-    const double drop = sim.state().x[i].y() - x0[i].y();
-    EXPECT_NEAR(drop, discrete, 1e-12 * std::abs(discrete) + 1e-13);  // round-off
-    EXPECT_LE(std::abs(drop - closed), 0.5 * g * h * t * (1 + 1e-9));  // first order: ½ghT
-    EXPECT_NEAR(sim.state().v[i].y(), -g * t, 1e-12 * g * t);
-  }
-}
-
 TEST(Spring, SingleMassOscillatesWithPeriodTwoPiSqrtMOverK) {
   // A 2x2 cloth with three corners pinned: the free corner hangs on one structural spring
   // along y and one along x. For a small displacement along y only the y spring resists
@@ -107,19 +81,7 @@ TEST(AirDrag, ReachesTerminalSpeedSqrtMgOverRhoA) {
   }
 }
 
-TEST(Momentum, IsConservedWithNoExternalForces) {
-  SceneDef def = bare();
-  def.cloth.perturbation = 0.02;  // start strained, so the springs work hard
-  Simulation sim(def);
-  sim.grab(5);
-  sim.release(Vec3(1.0, -2.0, 3.0));  // a kick: the cloth now moves and tumbles
-  const Vec3 p0 = momentum(sim);
-  ASSERT_GT(p0.norm(), 0.01);
-  for (int f = 0; f < 120; ++f) {
-    ASSERT_TRUE(sim.step());
-    EXPECT_LT((momentum(sim) - p0).norm(), 1e-12 * (1.0 + p0.norm())) << "frame " << f;
-  }
-}
+// Free fall and momentum conservation are tested for every method in solvers_test.cpp.
 
 TEST(HangScene, ComesToRestWithPinnedCornersExactlyFixed) {
   Simulation sim(shipped("hang"));

@@ -248,9 +248,7 @@ TEST_P(EachMethod, PinsAndTheHandUpdateWhatDependsOnThemAtOnce) {
   EXPECT_EQ(sim.diagnostics().pinned_drift, 0.0);
 }
 
-INSTANTIATE_TEST_SUITE_P(NewMethods, EachMethod,
-                         ::testing::Values(Method::implicit, Method::xpbd, Method::fast),
-                         method_name);
+INSTANTIATE_TEST_SUITE_P(EveryMethod, EachMethod, ::testing::ValuesIn(kAllMethods), method_name);
 
 // ---- Stability at the frame step with stiff springs -----------------------------------------
 
