@@ -60,11 +60,7 @@ class Implicit final : public Solver {
         if (contact_dvn_[i] > 0.0)
           apply_friction(contact_n_[i], contact_dvn_[i], contact_mu_[i], s.v[i]);
       }
-      forces::apply_drag(w.forces.air_drag, s.inv_mass, h, s.v);
-#pragma omp parallel for schedule(static) if (worth_threads(n))
-      for (int32_t i = 0; i < n; ++i) s.x[i] += h * s.v[i];
-      attachments_.apply(w.model, s, true);
-      resolve_contacts(w.colliders, s);
+      drag_drift_constrain(w, attachments_, h);
     }
     update_normals(w.model, s);
   }

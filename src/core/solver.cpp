@@ -1,5 +1,9 @@
 #include "solver.h"
 
+#include "forces.h"
+#include "long_range.h"
+#include "parallel.h"
+
 namespace drape {
 
 std::unique_ptr<Solver> make_solver(Method method) {
@@ -10,6 +14,16 @@ std::unique_ptr<Solver> make_solver(Method method) {
     case Method::fast: return make_fast();
   }
   return nullptr;
+}
+
+void drag_drift_constrain(World& w, const LongRange& attachments, double h) {
+  ClothState& s = w.state;
+  const int32_t n = w.model.size();
+  forces::apply_drag(w.forces.air_drag, s.inv_mass, h, s.v);
+#pragma omp parallel for schedule(static) if (worth_threads(n))
+  for (int32_t i = 0; i < n; ++i) s.x[i] += h * s.v[i];
+  attachments.apply(w.model, s, true);
+  resolve_contacts(w.colliders, s);
 }
 
 }  // namespace drape

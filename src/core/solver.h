@@ -39,6 +39,12 @@ class Solver {
 };
 
 std::unique_ptr<Solver> make_solver(Method method);
+
+class LongRange;
+/// The end of a velocity-level substep shared by `symplectic` and `implicit`: drag
+/// (semi-implicit, stable at any h), the drift x += h·v, long-range attachments, then contacts
+/// (last, so nothing stays inside a collider). Pinned and held particles (1/m = 0) stay put.
+void drag_drift_constrain(World& world, const LongRange& attachments, double h);
 std::unique_ptr<Solver> make_symplectic();
 std::unique_ptr<Solver> make_implicit();
 std::unique_ptr<Solver> make_xpbd();

@@ -70,15 +70,11 @@ class Symplectic final : public Solver {
         update_normals(w.model, s);
         forces::add_wind(w.model, s, w.forces.wind, w.time + k * h, force_);
       }
-      // 2. Kick, drag, drift. Pinned and held particles have 1/m = 0 and stay exactly put.
+      // 2. Kick. Pinned and held particles have 1/m = 0 and stay exactly put.
 #pragma omp parallel for schedule(static) if (worth_threads(n))
       for (int32_t i = 0; i < n; ++i) s.v[i] += (h * s.inv_mass[i]) * force_[i];
-      forces::apply_drag(w.forces.air_drag, s.inv_mass, h, s.v);
-#pragma omp parallel for schedule(static) if (worth_threads(n))
-      for (int32_t i = 0; i < n; ++i) s.x[i] += h * s.v[i];
-      // 3. Long-range attachments, then contacts (last, so nothing stays inside a collider).
-      attachments_.apply(w.model, s, true);
-      resolve_contacts(w.colliders, s);
+      // 3. Drag, drift, long-range attachments, contacts.
+      drag_drift_constrain(w, attachments_, h);
     }
     update_normals(w.model, s);
   }
