@@ -64,6 +64,24 @@ inline void apply_friction(const Vec3& n, double dvn, double friction, Vec3& v) 
   v = vn * n + keep * vt;
 }
 
+/// The position-level contact of the position-based methods (Macklin et al. 2014, "Unified
+/// particle physics", sec. 6.1): if x lies closer to the surface than the thickness, moves it
+/// out along the normal by the depth d, then cancels its tangential move since x_prev when
+/// that is within friction·d (static friction) or shortens it by friction·d (kinetic). Acting
+/// on positions, it holds cloth on a slope that velocity-level friction would let creep a
+/// little every substep. Returns true on contact.
+inline bool resolve_contact_position(const Collider& c, const Vec3& x_prev, Vec3& x) {
+  Vec3 n;
+  const double gap = signed_distance(c, x, n) - c.thickness;
+  if (gap >= 0.0) return false;
+  x -= gap * n;
+  const Vec3 moved = x - x_prev;
+  const Vec3 tangential = moved - moved.dot(n) * n;
+  const double slide = tangential.norm(), grip = c.friction * -gap;
+  x -= (slide <= grip ? 1.0 : grip / slide) * tangential;
+  return true;
+}
+
 /// Moves x out to the thickness of the collider if it is closer (positions only). Returns the
 /// distance moved (0 if none) and sets `normal` to the outward normal when it moved.
 inline double project_out(const Collider& c, Vec3& x, Vec3& normal) {

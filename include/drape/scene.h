@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -37,13 +38,13 @@ struct LongRangeDef {
 
 /// A rectangular grid cloth.
 struct ClothDef {
-  double width = 2.0;                ///< m, along the columns (x)
-  double height = 2.0;               ///< m, along the rows
-  int cols = 32;                     ///< particles per row, >= 2
-  int rows = 32;                     ///< particles per column, >= 2
-  Vec3 origin{-1.0, 2.0, 0.0};       ///< m, top-left corner (see Orientation)
+  double width = 2.0;           ///< m, along the columns (x)
+  double height = 2.0;          ///< m, along the rows
+  int cols = 32;                ///< particles per row, >= 2
+  int rows = 32;                ///< particles per column, >= 2
+  Vec3 origin{-1.0, 2.0, 0.0};  ///< m, top-left corner (see Orientation)
   Orientation orientation = Orientation::vertical;
-  double mass = 1.0;                 ///< kg, total; each particle gets mass / count
+  double mass = 1.0;                       ///< kg, total; each particle gets mass / count
   std::vector<Pin> pins{{0, 0}, {-1, 0}};  ///< pinned particles: the top corners
   SpringParams structural{2000.0, 0.5};    ///< right and lower neighbours
   SpringParams shear{500.0, 0.5};          ///< both diagonals of each quad
@@ -85,20 +86,21 @@ struct ColliderDef {
 };
 
 enum class Method : uint8_t {
-  symplectic,  ///< semi-implicit Euler with automatic stable substeps (the seed's update)
-  implicit,    ///< backward Euler, one Newton step per substep, filtered PCG (Baraff–Witkin)
-  xpbd,        ///< extended position-based dynamics, many substeps (Macklin et al. 2016, 2019)
-  fast         ///< local/global implicit Euler on a prefactored matrix (Liu et al. 2013)
+  symplectic,   ///< semi-implicit Euler with automatic stable substeps (the seed's update)
+  implicit,     ///< backward Euler, one Newton step per substep, filtered PCG (Baraff–Witkin)
+  xpbd,         ///< extended position-based dynamics, many substeps (Macklin et al. 2016, 2019)
+  fast,         ///< local/global implicit Euler on a prefactored matrix (Liu et al. 2013)
+  hierarchical  ///< xpbd plus coarse-to-fine length limits on a grid hierarchy (Müller 2008)
 };
 /// Every method, in the order tables list them.
 inline constexpr Method kAllMethods[] = {Method::symplectic, Method::implicit, Method::xpbd,
-                                          Method::fast};
+                                         Method::fast, Method::hierarchical};
 
 struct SolverDef {
   Method method = Method::symplectic;
-  double dt = 1.0 / 60.0;  ///< s, one frame, in [1e-6, 0.1]
-  int substeps = 0;        ///< per frame; 0 = automatic (the stable minimum)
-  double safety = 0.9;     ///< fraction of the stability bound used by automatic substeps
+  double dt = 1.0 / 60.0;    ///< s, one frame, in [1e-6, 0.1]
+  int substeps = 0;          ///< per frame; 0 = automatic (the stable minimum)
+  double safety = 0.9;       ///< fraction of the stability bound used by automatic substeps
   int max_substeps = 10000;  ///< automatic substeps above this are refused
   /// xpbd: constraint iterations per substep; fast: local/global iterations per substep;
   /// 0 = the method's default (xpbd 1; fast: from the Chebyshev estimate, 10..200).
@@ -122,6 +124,10 @@ struct SceneDef {
 
 /// Names used in scene files and on the command line.
 const char* to_string(Method m);
+/// The method called `name`, if there is one.
+std::optional<Method> method_from_string(const std::string& name);
+/// Every method's name, for messages: "symplectic, implicit, ... or hierarchical".
+std::string method_names();
 const char* to_string(WindModel m);
 const char* to_string(ColliderType t);
 const char* to_string(Orientation o);

@@ -20,7 +20,7 @@ namespace {
 
 struct CompareOptions {
   std::string scene;
-  std::vector<std::string> methods{"symplectic", "implicit", "xpbd", "fast"};
+  std::vector<std::string> methods;  // empty: all
   std::optional<double> seconds;
   std::vector<std::string> sets;
   int threads = 0;
@@ -93,21 +93,15 @@ void print_table(const std::vector<Row>& rows, bool markdown) {
 int compare(const CompareOptions& o) {
   if (o.threads > 0) omp_set_num_threads(o.threads);
   std::vector<Method> methods;
+  if (o.methods.empty()) methods.assign(std::begin(kAllMethods), std::end(kAllMethods));
   for (const std::string& name : o.methods) {
-    bool found = false;
-    for (Method m : {Method::symplectic, Method::implicit, Method::xpbd, Method::fast}) {
-      if (name == to_string(m)) {
-        methods.push_back(m);
-        found = true;
-      }
-    }
-    if (!found) {
-      std::fprintf(stderr,
-                   "drape: error: --methods: unknown method \"%s\"; expected symplectic, "
-                   "implicit, xpbd or fast\n",
-                   name.c_str());
+    const std::optional<Method> m = method_from_string(name);
+    if (!m) {
+      std::fprintf(stderr, "drape: error: --methods: unknown method \"%s\"; expected %s\n",
+                   name.c_str(), method_names().c_str());
       return kExitBadInput;
     }
+    methods.push_back(*m);
   }
   std::vector<std::string> sets = o.sets;
   if (o.seconds) sets.push_back("duration=" + std::to_string(*o.seconds));
@@ -161,7 +155,7 @@ std::function<int()> add_compare_command(CLI::App& app) {
   CLI::App* cmd = app.add_subcommand(
       "compare", "Run a scene with each method and print their figures side by side");
   cmd->add_option("scene", o->scene, "Scene file (JSON)")->required();
-  cmd->add_option("--methods", o->methods, "Methods to compare, in order (default: all four)")
+  cmd->add_option("--methods", o->methods, "Methods to compare, in order (default: all)")
       ->delimiter(',')
       ->take_all();
   cmd->add_option("--seconds", o->seconds, "Simulated duration in s (overrides the scene's)");

@@ -15,6 +15,15 @@ struct DistanceCorrection {
   double dlambda = 0.0;     ///< N·s², change of the constraint's Lagrange multiplier
 };
 
+/// Δλ for a constraint of value c and rate ċ = ∇C·(x − x_prev), with w the sum of the inverse
+/// masses times |∇C|² (= wi + wj for a distance) and λ the multiplier so far. 0 when nothing
+/// can move and the constraint is hard.
+inline double xpbd_delta_lambda(double c, double w, double alpha_tilde, double gamma, double c_dot,
+                                double lambda) {
+  const double denominator = (1.0 + gamma) * w + alpha_tilde;
+  return denominator > 0.0 ? (-c - alpha_tilde * lambda - gamma * c_dot) / denominator : 0.0;
+}
+
 /// `moved_i` and `moved_j` are x − x_prev over the substep (for the damping term); `lambda` is
 /// the multiplier accumulated so far this substep (0 on the first iteration).
 inline DistanceCorrection xpbd_distance(const Vec3& xi, double wi, const Vec3& xj, double wj,
@@ -28,7 +37,7 @@ inline DistanceCorrection xpbd_distance(const Vec3& xi, double wi, const Vec3& x
   const Vec3 n = d / len;  // ∇_j C = n, ∇_i C = −n
   const double c = len - rest;
   const double c_dot = n.dot(moved_j - moved_i);  // ∇C·(x − x_prev)
-  out.dlambda = (-c - alpha_tilde * lambda - gamma * c_dot) / ((1.0 + gamma) * w + alpha_tilde);
+  out.dlambda = xpbd_delta_lambda(c, w, alpha_tilde, gamma, c_dot, lambda);
   out.dxi = (-wi * out.dlambda) * n;
   out.dxj = (wj * out.dlambda) * n;
   return out;

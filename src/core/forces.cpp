@@ -64,8 +64,8 @@ void for_each_wind_force(const ClothModel& model, const ClothState& s, const Win
     for (int32_t p = 0; p < n; ++p) {
       Vec3 sum = Vec3::Zero();
       for (int32_t k = model.vertex_triangle_begin[p]; k < model.vertex_triangle_begin[p + 1]; ++k)
-        sum += aero_triangle(s, model.triangles[model.vertex_triangles[k]], wind_velocity,
-                             half_rho_c);
+        sum +=
+            aero_triangle(s, model.triangles[model.vertex_triangles[k]], wind_velocity, half_rho_c);
       out(p, sum / 3.0);
     }
   }
@@ -78,8 +78,8 @@ void add_wind(const ClothModel& model, const ClothState& state, const WindDef& w
   for_each_wind_force(model, state, wind, t, [&](int32_t p, const Vec3& fw) { f[p] += fw; });
 }
 
-double wind_power(const ClothModel& model, const ClothState& state, const WindDef& wind,
-                  double t, std::vector<double>& power) {
+double wind_power(const ClothModel& model, const ClothState& state, const WindDef& wind, double t,
+                  std::vector<double>& power) {
   power.assign(model.size(), 0.0);
   for_each_wind_force(model, state, wind, t,
                       [&](int32_t p, const Vec3& fw) { power[p] = std::abs(fw.dot(state.v[p])); });
@@ -94,10 +94,7 @@ void apply_drag(double air_drag, const std::vector<double>& inv_mass, double dt,
   const int32_t n = static_cast<int32_t>(v.size());
 #pragma omp parallel for schedule(static) if (worth_threads(n))
   for (int32_t i = 0; i < n; ++i) {
-    // A speed whose norm overflows is left alone for the divergence check to see: dividing by
-    // an infinite norm would quietly zero it.
-    const double speed = v[i].norm();
-    if (std::isfinite(speed)) v[i] /= 1.0 + dt * air_drag * inv_mass[i] * speed;
+    v[i] *= drag_factor(dt * air_drag * inv_mass[i], v[i].x(), v[i].y(), v[i].z());
   }
 }
 

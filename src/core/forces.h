@@ -3,6 +3,7 @@
 // are below them.
 #pragma once
 
+#include <cmath>
 #include <vector>
 
 #include "drape/cloth.h"
@@ -74,8 +75,16 @@ void add_wind(const ClothModel& model, const ClothState& state, const WindDef& w
 
 /// Σ_i |f_wind,i · v_i| (W): an upper bound on the power the wind delivers now. `scratch` is
 /// workspace (resized to the particle count).
-double wind_power(const ClothModel& model, const ClothState& state, const WindDef& wind,
-                  double t, std::vector<double>& scratch);
+double wind_power(const ClothModel& model, const ClothState& state, const WindDef& wind, double t,
+                  std::vector<double>& scratch);
+
+/// The factor the semi-implicit drag scales a velocity u by: 1/(1 + k·|u|) with
+/// k = dt·(ρA/m). A speed whose norm overflows is left alone for the divergence check to see:
+/// dividing by an infinite norm would quietly zero it.
+inline double drag_factor(double k, double ux, double uy, double uz) {
+  const double speed = std::sqrt(ux * ux + uy * uy + uz * uz);
+  return speed <= 1e300 ? 1.0 / (1.0 + k * speed) : 1.0;
+}
 
 /// The seed's quadratic drag dv = −(ρA/m)|v|v dt, taken semi-implicitly:
 /// v ← v / (1 + dt·(ρA/m)·|v|). Same terminal speed, stable for any dt. No-op where 1/m = 0.

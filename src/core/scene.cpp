@@ -9,16 +9,40 @@ namespace drape {
 
 const char* to_string(Method m) {
   switch (m) {
-    case Method::symplectic: return "symplectic";
-    case Method::implicit: return "implicit";
-    case Method::xpbd: return "xpbd";
-    case Method::fast: return "fast";
+    case Method::symplectic:
+      return "symplectic";
+    case Method::implicit:
+      return "implicit";
+    case Method::xpbd:
+      return "xpbd";
+    case Method::fast:
+      return "fast";
+    case Method::hierarchical:
+      return "hierarchical";
   }
   return "?";
 }
 
-const char* to_string(WindModel m) { return m == WindModel::seed ? "seed" : "aero"; }
-const char* to_string(ColliderType t) { return t == ColliderType::sphere ? "sphere" : "plane"; }
+std::optional<Method> method_from_string(const std::string& name) {
+  for (Method m : kAllMethods)
+    if (name == to_string(m)) return m;
+  return std::nullopt;
+}
+
+std::string method_names() {
+  std::string out;
+  const size_t count = std::size(kAllMethods);
+  for (size_t k = 0; k < count; ++k)
+    out += std::string(k == 0 ? "" : k + 1 == count ? " or " : ", ") + to_string(kAllMethods[k]);
+  return out;
+}
+
+const char* to_string(WindModel m) {
+  return m == WindModel::seed ? "seed" : "aero";
+}
+const char* to_string(ColliderType t) {
+  return t == ColliderType::sphere ? "sphere" : "plane";
+}
 const char* to_string(Orientation o) {
   return o == Orientation::vertical ? "vertical" : "horizontal";
 }
@@ -134,9 +158,9 @@ void check(const SceneDef& def) {
   range(s.safety, 0.0, 1.0, "solver.safety", true);
   require(s.max_substeps >= 1 && s.max_substeps <= 1'000'000, "solver.max_substeps",
           "is " + std::to_string(s.max_substeps) + ", must be in [1, 1000000]");
-  require(s.iterations >= 0 && s.iterations <= 10000, "solver.iterations",
-          "is " + std::to_string(s.iterations) +
-              ", must be in [0, 10000] (0 = the method's default)");
+  require(
+      s.iterations >= 0 && s.iterations <= 10000, "solver.iterations",
+      "is " + std::to_string(s.iterations) + ", must be in [0, 10000] (0 = the method's default)");
   range(s.cg_tolerance, 0.0, 1.0, "solver.cg_tolerance", true);
   require(s.cg_tolerance < 1.0, "solver.cg_tolerance", "must be below 1");
   require(s.cg_max_iterations >= 1 && s.cg_max_iterations <= 100000, "solver.cg_max_iterations",
