@@ -7,39 +7,64 @@
 
 namespace drape {
 
-/// One XPBD step on a distance constraint C = |x_j − x_i| − L with compliance α̃ = α/h² and
-/// damping γ = α̃·β̃/h (Macklin, Müller & Chentanez 2016, eqs. 18 and 26).
+/// One XPBD distance constraint C = |x_j − x_i| − L between entries i and j of position arrays
+/// (Macklin, Müller & Chentanez 2016, eqs. 18 and 26), with compliance α̃ = α/h², damping
+/// γ = α̃·β̃/h, inverse masses w and λ the multiplier so far this substep. Written for arrays
+/// so the solver's loops vectorise. Numerator and denominator are multiplied by |d| so that one
+/// square root and one division do:
+///   Δλ/|d| = (−(|d|² − L|d|) − α̃λ|d| − γ d·Δ) / (((1 + γ)(wi + wj) + α̃)|d|²),
+///   Δ = (x_j − x_prev,j) − (x_i − x_prev,i),  x_j += wj·(Δλ/|d|)·d,  x_i −= wi·(Δλ/|d|)·d.
+/// Unilateral constraints act only when stretched; undamped ones read no x_prev (q).
+/// Returns Δλ.
+template <bool kUnilateral, bool kDamped>
+inline double xpbd_project(double* __restrict px, double* __restrict py, double* __restrict pz,
+                           const double* __restrict qx, const double* __restrict qy,
+                           const double* __restrict qz, const double* __restrict w, int i, int j,
+                           double rest, double alpha_tilde, double gamma, double lambda) {
+  const double dx = px[j] - px[i], dy = py[j] - py[i], dz = pz[j] - pz[i];
+  const double len2 = dx * dx + dy * dy + dz * dz;
+  const double len = std::sqrt(len2);
+  double d_dot = 0.0;
+  if constexpr (kDamped)
+    d_dot = dx * ((px[j] - qx[j]) - (px[i] - qx[i])) + dy * ((py[j] - qy[j]) - (py[i] - qy[i])) +
+            dz * ((pz[j] - qz[j]) - (pz[i] - qz[i]));
+  const double wi = w[i], wj = w[j];
+  const double numerator = -(len2 - rest * len) - alpha_tilde * lambda * len - gamma * d_dot;
+  const double denominator = ((1.0 + gamma) * (wi + wj) + alpha_tilde) * len2;
+  // Nothing to do for coincident ends (no direction), or two fixed ends of a hard constraint.
+  double s = denominator > 0.0 ? numerator / denominator : 0.0;
+  if constexpr (kUnilateral) s = len > rest ? s : 0.0;
+  px[i] -= wi * s * dx;
+  py[i] -= wi * s * dy;
+  pz[i] -= wi * s * dz;
+  px[j] += wj * s * dx;
+  py[j] += wj * s * dy;
+  pz[j] += wj * s * dz;
+  return s * len;
+}
+
+/// The move of one distance constraint, for two particles given as vectors.
 struct DistanceCorrection {
   Vec3 dxi = Vec3::Zero();  ///< m, move of x_i
   Vec3 dxj = Vec3::Zero();  ///< m, move of x_j
   double dlambda = 0.0;     ///< N·s², change of the constraint's Lagrange multiplier
 };
 
-/// Δλ for a constraint of value c and rate ċ = ∇C·(x − x_prev), with w the sum of the inverse
-/// masses times |∇C|² (= wi + wj for a distance) and λ the multiplier so far. 0 when nothing
-/// can move and the constraint is hard.
-inline double xpbd_delta_lambda(double c, double w, double alpha_tilde, double gamma, double c_dot,
-                                double lambda) {
-  const double denominator = (1.0 + gamma) * w + alpha_tilde;
-  return denominator > 0.0 ? (-c - alpha_tilde * lambda - gamma * c_dot) / denominator : 0.0;
-}
-
-/// `moved_i` and `moved_j` are x − x_prev over the substep (for the damping term); `lambda` is
-/// the multiplier accumulated so far this substep (0 on the first iteration).
+/// xpbd_project on two particles: `moved_i` and `moved_j` are x − x_prev over the substep (for
+/// the damping term); `lambda` is the multiplier accumulated so far this substep (0 on the
+/// first iteration).
 inline DistanceCorrection xpbd_distance(const Vec3& xi, double wi, const Vec3& xj, double wj,
                                         double rest, double alpha_tilde, double gamma,
                                         const Vec3& moved_i, const Vec3& moved_j, double lambda) {
+  double px[2] = {xi.x(), xj.x()}, py[2] = {xi.y(), xj.y()}, pz[2] = {xi.z(), xj.z()};
+  const double qx[2] = {xi.x() - moved_i.x(), xj.x() - moved_j.x()},
+               qy[2] = {xi.y() - moved_i.y(), xj.y() - moved_j.y()},
+               qz[2] = {xi.z() - moved_i.z(), xj.z() - moved_j.z()}, w[2] = {wi, wj};
   DistanceCorrection out;
-  const double w = wi + wj;
-  const Vec3 d = xj - xi;
-  const double len = d.norm();
-  if (w == 0.0 || len == 0.0) return out;
-  const Vec3 n = d / len;  // ∇_j C = n, ∇_i C = −n
-  const double c = len - rest;
-  const double c_dot = n.dot(moved_j - moved_i);  // ∇C·(x − x_prev)
-  out.dlambda = xpbd_delta_lambda(c, w, alpha_tilde, gamma, c_dot, lambda);
-  out.dxi = (-wi * out.dlambda) * n;
-  out.dxj = (wj * out.dlambda) * n;
+  out.dlambda =
+      xpbd_project<false, true>(px, py, pz, qx, qy, qz, w, 0, 1, rest, alpha_tilde, gamma, lambda);
+  out.dxi = Vec3(px[0], py[0], pz[0]) - xi;
+  out.dxj = Vec3(px[1], py[1], pz[1]) - xj;
   return out;
 }
 

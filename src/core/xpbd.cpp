@@ -70,36 +70,6 @@ struct Level {
   int size() const { return cols * rows; }
 };
 
-// One XPBD distance constraint between entries i and j of the arrays (Macklin et al. 2016,
-// eqs. 18 and 26, the math of xpbd_distance in constraints.h written for arrays so the loops
-// vectorise). Unilateral constraints act only when stretched; undamped ones read no q
-// (x_prev). Returns Δλ.
-template <bool kUnilateral, bool kDamped>
-inline double project(double* __restrict px, double* __restrict py, double* __restrict pz,
-                      const double* __restrict qx, const double* __restrict qy,
-                      const double* __restrict qz, const double* __restrict w, int i, int j,
-                      double rest, double alpha_tilde, double gamma, double lambda) {
-  const double dx = px[j] - px[i], dy = py[j] - py[i], dz = pz[j] - pz[i];
-  const double len = std::sqrt(dx * dx + dy * dy + dz * dz);
-  const double inv_len = len > 0.0 ? 1.0 / len : 0.0;
-  const double nx = dx * inv_len, ny = dy * inv_len, nz = dz * inv_len;
-  const double c = len - rest;
-  double c_dot = 0.0;
-  if constexpr (kDamped)
-    c_dot = nx * ((px[j] - qx[j]) - (px[i] - qx[i])) + ny * ((py[j] - qy[j]) - (py[i] - qy[i])) +
-            nz * ((pz[j] - qz[j]) - (pz[i] - qz[i]));
-  const double wi = w[i], wj = w[j];
-  double dl = xpbd_delta_lambda(c, wi + wj, alpha_tilde, gamma, c_dot, lambda);
-  if constexpr (kUnilateral) dl = c > 0.0 ? dl : 0.0;
-  px[i] -= wi * dl * nx;
-  py[i] -= wi * dl * ny;
-  pz[i] -= wi * dl * nz;
-  px[j] += wj * dl * nx;
-  py[j] += wj * dl * ny;
-  pz[j] += wj * dl * nz;
-  return dl;
-}
-
 class GridXpbd final : public Solver {
  public:
   explicit GridXpbd(bool hierarchy) : hierarchy_(hierarchy) {}
@@ -384,10 +354,10 @@ class GridXpbd final : public Solver {
     auto one = [&](int i, int j) {
       if constexpr (kLambda) {
         const double l0 = first ? 0.0 : lambda[i];
-        lambda[i] = l0 + project<false, true>(px, py, pz, qx, qy, qz, w, i, j, rest, alpha_tilde,
-                                              gamma, l0);
+        lambda[i] = l0 + xpbd_project<false, true>(px, py, pz, qx, qy, qz, w, i, j, rest,
+                                                   alpha_tilde, gamma, l0);
       } else {
-        project<false, true>(px, py, pz, qx, qy, qz, w, i, j, rest, alpha_tilde, gamma, 0.0);
+        xpbd_project<false, true>(px, py, pz, qx, qy, qz, w, i, j, rest, alpha_tilde, gamma, 0.0);
       }
     };
     if (f.dr > 0) {
@@ -496,8 +466,8 @@ class GridXpbd final : public Solver {
 #pragma omp simd
         for (int q = 0; q < count; ++q) {
           const int a = 2 * q + colour;
-          project<true, false>(px, py, pz, nullptr, nullptr, nullptr, w, row + a, row + a + 1,
-                               rest_h[a], 0.0, 0.0, 0.0);
+          xpbd_project<true, false>(px, py, pz, nullptr, nullptr, nullptr, w, row + a, row + a + 1,
+                                    rest_h[a], 0.0, 0.0, 0.0);
         }
       }
     }
@@ -508,8 +478,8 @@ class GridXpbd final : public Solver {
         const double rest = lv.rest_v[b];
 #pragma omp simd
         for (int a = 0; a < lc; ++a)
-          project<true, false>(px, py, pz, nullptr, nullptr, nullptr, w, row + a, row + lc + a,
-                               rest, 0.0, 0.0, 0.0);
+          xpbd_project<true, false>(px, py, pz, nullptr, nullptr, nullptr, w, row + a, row + lc + a,
+                                    rest, 0.0, 0.0, 0.0);
       }
     }
   }
