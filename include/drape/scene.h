@@ -86,15 +86,14 @@ struct ColliderDef {
 };
 
 enum class Method : uint8_t {
-  symplectic,   ///< semi-implicit Euler with automatic stable substeps (the seed's update)
-  implicit,     ///< backward Euler, one Newton step per substep, filtered PCG (Baraff–Witkin)
-  xpbd,         ///< extended position-based dynamics, many substeps (Macklin et al. 2016, 2019)
-  fast,         ///< local/global implicit Euler on a prefactored matrix (Liu et al. 2013)
-  hierarchical  ///< xpbd plus coarse-to-fine length limits on a grid hierarchy (Müller 2008)
+  symplectic,  ///< semi-implicit Euler with automatic stable substeps (the seed's update)
+  implicit,    ///< backward Euler, one Newton step per substep, filtered PCG (Baraff–Witkin)
+  xpbd,        ///< extended position-based dynamics, many substeps (Macklin et al. 2016, 2019)
+  fast         ///< local/global implicit Euler on a prefactored matrix (Liu et al. 2013)
 };
 /// Every method, in the order tables list them.
 inline constexpr Method kAllMethods[] = {Method::symplectic, Method::implicit, Method::xpbd,
-                                         Method::fast, Method::hierarchical};
+                                         Method::fast};
 
 struct SolverDef {
   Method method = Method::symplectic;
@@ -126,7 +125,7 @@ struct SceneDef {
 const char* to_string(Method m);
 /// The method called `name`, if there is one.
 std::optional<Method> method_from_string(const std::string& name);
-/// Every method's name, for messages: "symplectic, implicit, ... or hierarchical".
+/// Every method's name, for messages: "symplectic, implicit, ... or fast".
 std::string method_names();
 const char* to_string(WindModel m);
 const char* to_string(ColliderType t);

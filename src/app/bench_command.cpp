@@ -44,7 +44,7 @@ constexpr int kSubstepLadder[] = {4, 6, 9, 14, 21, 32, 48, 72, 108, 162, 243, 36
 
 // Methods whose quality is set by the substeps they are given (and which take any count).
 bool searchable(const std::string& method) {
-  return method == to_string(Method::xpbd) || method == to_string(Method::hierarchical);
+  return method == to_string(Method::xpbd);
 }
 
 // The quality bar a run must meet to count.
@@ -303,7 +303,7 @@ std::function<int()> add_bench_command(CLI::App& app) {
       ->check(CLI::PositiveNumber);
   cmd->add_option("--out", o->out, "Folder for bench.json and bench.csv");
   cmd->add_flag("!--no-search", o->search,
-                "xpbd and hierarchical: run at their automatic substeps instead of searching for "
+                "xpbd: run at its automatic substeps instead of searching for "
                 "the fewest that meet the quality bar");
   return [cmd, o] { return cmd->parsed() ? bench(*o) : -1; };
 }

@@ -17,8 +17,6 @@ const char* to_string(Method m) {
       return "xpbd";
     case Method::fast:
       return "fast";
-    case Method::hierarchical:
-      return "hierarchical";
   }
   return "?";
 }

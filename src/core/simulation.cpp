@@ -55,7 +55,6 @@ const char* divergence_hint(Method m) {
       return "try a smaller solver.dt, more solver.substeps, a smaller solver.cg_tolerance or "
              "more solver.cg_max_iterations";
     case Method::xpbd:
-    case Method::hierarchical:
       return "try more solver.substeps or solver.iterations, or a smaller solver.dt";
     case Method::fast:
       return "try more solver.iterations, more solver.substeps, or the implicit method";

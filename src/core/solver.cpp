@@ -12,7 +12,6 @@ std::unique_ptr<Solver> make_solver(Method method) {
     case Method::implicit: return make_implicit();
     case Method::xpbd: return make_xpbd();
     case Method::fast: return make_fast();
-    case Method::hierarchical: return make_hierarchical();
   }
   return nullptr;
 }

@@ -49,7 +49,6 @@ std::unique_ptr<Solver> make_symplectic();
 std::unique_ptr<Solver> make_implicit();
 std::unique_ptr<Solver> make_xpbd();
 std::unique_ptr<Solver> make_fast();
-std::unique_ptr<Solver> make_hierarchical();
 
 /// The largest explicit step h with h²ω² + 2hγ < 4, where ω² = max_i Σ_s 2k_s/m_i and
 /// γ = max_i Σ_s 2c_s/m_i over the springs s at each free particle i (Gershgorin bounds on the

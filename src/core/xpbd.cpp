@@ -1,17 +1,9 @@
-// `xpbd` and `hierarchical`: extended position-based dynamics with small steps (Macklin,
-// Müller & Chentanez 2016, "XPBD"; Macklin et al. 2019, "Small steps in physics simulation"),
-// written for the cloth's regular grid. Per substep: predict with the external forces, project
-// the springs as compliant distance constraints (α = 1/k, damping from the spring's c) by
-// Gauss–Seidel colour by colour, apply long-range attachments, derive v = (x − x_prev)/h,
-// resolve contacts.
-//
-// `hierarchical` adds, before the springs, a coarse-to-fine pass over a grid hierarchy
-// (after Müller 2008, "Hierarchical position based dynamics"): level ℓ keeps every 2^ℓ-th
-// row and column; each level holds its nodes' horizontal and vertical distances to at most
-// their rest length (unilateral, so the cloth may still fold between nodes); the correction of
-// a level is interpolated bilinearly to the next finer one. Gauss–Seidel on the fine springs
-// alone removes a stretch over w particles in about w² sweeps; the hierarchy removes it in
-// about log w, which is what lets a stiff cloth meet a 1% strain bar at a few substeps.
+// `xpbd`: extended position-based dynamics with small steps (Macklin, Müller & Chentanez
+// 2016, "XPBD"; Macklin et al. 2019, "Small steps in physics simulation"), written for the
+// cloth's regular grid. Per substep: predict with the external forces, project the springs as
+// compliant distance constraints (α = 1/k, damping from the spring's c) by Gauss–Seidel colour
+// by colour, apply long-range attachments, resolve contacts on positions, derive
+// v = (x − x_prev)/h.
 //
 // The state is kept as structure-of-arrays, and a family of springs (one direction of one
 // kind) is swept row by row, so the inner loops are contiguous (or strided by 2 or 4 along a
@@ -35,8 +27,6 @@ namespace drape {
 namespace {
 
 constexpr int kDefaultIterations = 1;
-constexpr int kCoarsestNodes = 5;     ///< coarsen while a side has more nodes than this
-constexpr int kCoarseIterations = 2;  ///< Gauss–Seidel sweeps per coarse level and substep
 
 /// Positions (or any 3-vector field) as three arrays.
 struct Soa {
@@ -56,24 +46,8 @@ struct Family {
   double rest = 0.0, stiffness = 0.0, damping = 0.0;
 };
 
-/// One coarse level: a sub-grid of the fine grid, stored compactly.
-struct Level {
-  int cols = 0, rows = 0;
-  std::vector<int> col, row;  ///< fine column / row of each node
-  /// Where each node of the next finer level lies: left (top) node index here and weight of the
-  /// right (bottom) one, for the bilinear interpolation of corrections.
-  std::vector<int> finer_col_left, finer_row_top;
-  std::vector<double> finer_col_t, finer_row_t;
-  std::vector<double> rest_h, rest_v;  ///< per column gap, per row gap
-  std::vector<double> inv_mass;        ///< 0 where the node is pinned or held
-  Soa x, x0;                           ///< now, and at the start of the substep
-  int size() const { return cols * rows; }
-};
-
 class GridXpbd final : public Solver {
  public:
-  explicit GridXpbd(bool hierarchy) : hierarchy_(hierarchy) {}
-
   void prepare(const World& w, const SolverDef& def) override {
     const ClothModel& m = w.model;
     cols_ = m.cols;
@@ -93,8 +67,6 @@ class GridXpbd final : public Solver {
     for (size_t k = 0; k < attachments_.pins().size(); ++k)
       for (int32_t i = 0; i < n; ++i)
         attachment_limit_[k * n + i] = attachments_.limit(m, i, attachments_.pins()[k]);
-    levels_.clear();
-    if (hierarchy_) prepare_levels(m, w.state);
     if (def.substeps > 0) {
       substeps_ = def.substeps;
       return;
@@ -137,7 +109,6 @@ class GridXpbd final : public Solver {
       }
       for (int k = 0; k < substeps_; ++k) {
         predict(h, drag);
-        if (!levels_.empty()) coarse_to_fine();
         for (int it = 0; it < iterations_; ++it) project_springs(h, it);
         if (attachments_.active()) apply_attachments();
         finish_substep(w.colliders, h);
@@ -194,78 +165,6 @@ class GridXpbd final : public Solver {
     }
   }
 
-  // Builds the coarse levels: each keeps every other node of the level below, plus its last.
-  void prepare_levels(const ClothModel& m, const ClothState& s) {
-    std::vector<int> cols(cols_), rows(rows_);
-    for (int c = 0; c < cols_; ++c) cols[c] = c;
-    for (int r = 0; r < rows_; ++r) rows[r] = r;
-    auto coarser = [](const std::vector<int>& fine) {
-      std::vector<int> out;
-      for (size_t k = 0; k < fine.size(); k += 2) out.push_back(fine[k]);
-      if (out.back() != fine.back()) out.push_back(fine.back());
-      return out;
-    };
-    // For each node of `fine`, the interval of `coarse` it lies in, by rest coordinate.
-    auto locate = [](const std::vector<int>& fine, const std::vector<int>& coarse,
-                     std::vector<int>& left, std::vector<double>& t) {
-      left.assign(fine.size(), 0);
-      t.assign(fine.size(), 0.0);
-      size_t k = 0;
-      for (size_t a = 0; a < fine.size(); ++a) {
-        while (k + 2 < coarse.size() && coarse[k + 1] <= fine[a]) ++k;
-        left[a] = static_cast<int>(k);
-        t[a] = static_cast<double>(fine[a] - coarse[k]) / (coarse[k + 1] - coarse[k]);
-      }
-    };
-    const double dx = (m.rest_position[m.index(1, 0)] - m.rest_position[0]).norm();
-    const double dy = (m.rest_position[m.index(0, 1)] - m.rest_position[0]).norm();
-    while (static_cast<int>(std::max(cols.size(), rows.size())) > kCoarsestNodes &&
-           std::min(cols.size(), rows.size()) > 2) {
-      Level lv;
-      lv.col = coarser(cols);
-      lv.row = coarser(rows);
-      lv.cols = static_cast<int>(lv.col.size());
-      lv.rows = static_cast<int>(lv.row.size());
-      locate(cols, lv.col, lv.finer_col_left, lv.finer_col_t);
-      locate(rows, lv.row, lv.finer_row_top, lv.finer_row_t);
-      for (int a = 0; a + 1 < lv.cols; ++a) lv.rest_h.push_back((lv.col[a + 1] - lv.col[a]) * dx);
-      for (int b = 0; b + 1 < lv.rows; ++b) lv.rest_v.push_back((lv.row[b + 1] - lv.row[b]) * dy);
-      lv.x.resize(lv.size());
-      lv.x0.resize(lv.size());
-      levels_.push_back(std::move(lv));
-      cols = levels_.back().col;
-      rows = levels_.back().row;
-    }
-    // Node masses: each fine particle's mass shared among the corners of its cell at that level
-    // by its bilinear weights, so a level carries the whole cloth's mass.
-    for (Level& lv : levels_) {
-      std::vector<double> mass(lv.size(), 0.0);
-      std::vector<int> left, top;
-      std::vector<double> tc, tr;
-      std::vector<int> all_cols(cols_), all_rows(rows_);
-      for (int c = 0; c < cols_; ++c) all_cols[c] = c;
-      for (int r = 0; r < rows_; ++r) all_rows[r] = r;
-      locate(all_cols, lv.col, left, tc);
-      locate(all_rows, lv.row, top, tr);
-      for (int r = 0; r < rows_; ++r)
-        for (int c = 0; c < cols_; ++c) {
-          const double mp = m.mass[m.index(c, r)];
-          const int a = left[c], b = top[r];
-          mass[b * lv.cols + a] += mp * (1 - tc[c]) * (1 - tr[r]);
-          mass[b * lv.cols + a + 1] += mp * tc[c] * (1 - tr[r]);
-          mass[(b + 1) * lv.cols + a] += mp * (1 - tc[c]) * tr[r];
-          mass[(b + 1) * lv.cols + a + 1] += mp * tc[c] * tr[r];
-        }
-      lv.inv_mass.resize(lv.size());
-      for (int b = 0; b < lv.rows; ++b)
-        for (int a = 0; a < lv.cols; ++a) {
-          const int k = b * lv.cols + a;
-          const bool fixed = s.inv_mass[m.index(lv.col[a], lv.row[b])] == 0.0;
-          lv.inv_mass[k] = fixed || mass[k] <= 0.0 ? 0.0 : 1.0 / mass[k];
-        }
-    }
-  }
-
   // Substeps per frame when the scene leaves it to the method.
   int automatic_substeps(const World& w, const SolverDef& def) const {
     double kw = 0.0;
@@ -273,13 +172,11 @@ class GridXpbd final : public Solver {
       kw = std::max(kw, s.stiffness * std::max(w.state.inv_mass[s.i], w.state.inv_mass[s.j]));
     // With one iteration per substep a spring reaches an effective stiffness of about
     // min(k, m/h²), so the smallest count with m/h² ≥ k for every spring: below it, stiff and
-    // soft springs (stretch and bending) look alike and the cloth acts like rubber. The same
-    // rule holds with the hierarchy, which adds length limits but no bending softness.
+    // soft springs (stretch and bending) look alike and the cloth acts like rubber.
     const double needed = std::ceil(def.dt * std::sqrt(kw));
     if (!(needed <= def.max_substeps)) {
       throw InputError("solver.substeps",
-                       "the " + std::string(hierarchy_ ? "hierarchical" : "xpbd") +
-                           " method needs " + std::to_string(needed) +
+                       "the xpbd method needs " + std::to_string(needed) +
                            " substeps per frame to reach the springs' stiffness, more than "
                            "solver.max_substeps = " +
                            std::to_string(def.max_substeps) +
@@ -391,99 +288,6 @@ class GridXpbd final : public Solver {
     }
   }
 
-  // The coarse-to-fine pass: from the coarsest level down, start from the level's positions at
-  // the start of the pass plus the interpolated correction of the level above, sweep its
-  // unilateral distance limits, and hand the correction on. The finest level is the cloth.
-  void coarse_to_fine() {
-    // Snapshot every level's nodes from the cloth.
-    for (Level& lv : levels_) {
-#pragma omp for schedule(static)
-      for (int b = 0; b < lv.rows; ++b)
-        for (int a = 0; a < lv.cols; ++a) {
-          const int k = b * lv.cols + a, i = lv.row[b] * cols_ + lv.col[a];
-          lv.x0.x[k] = lv.x.x[k] = x_.x[i];
-          lv.x0.y[k] = lv.x.y[k] = x_.y[i];
-          lv.x0.z[k] = lv.x.z[k] = x_.z[i];
-        }
-    }
-    for (size_t l = levels_.size(); l-- > 0;) {
-      Level& lv = levels_[l];
-      for (int it = 0; it < kCoarseIterations; ++it) sweep_level(lv);
-      if (l > 0) {
-        Level& finer = levels_[l - 1];
-        prolong(lv, finer.cols, finer.rows, finer.inv_mass.data(), finer.x);
-      } else {
-        prolong(lv, cols_, rows_, inv_mass_.data(), x_);
-      }
-    }
-  }
-
-  // Adds the bilinear interpolation of lv's correction (x − x0) to the finer level's free nodes.
-  void prolong(const Level& lv, int cols, int rows, const double* __restrict w, Soa& out) {
-    const double *__restrict cx = lv.x.x.data(), *__restrict cy = lv.x.y.data(),
-                             *__restrict cz = lv.x.z.data();
-    const double *__restrict c0x = lv.x0.x.data(), *__restrict c0y = lv.x0.y.data(),
-                             *__restrict c0z = lv.x0.z.data();
-    double* __restrict ox = out.x.data(), * __restrict oy = out.y.data(), * __restrict oz = out.z.data();
-    const int* __restrict left = lv.finer_col_left.data();
-    const double* __restrict tc = lv.finer_col_t.data();
-    const int lc = lv.cols;
-#pragma omp for schedule(static)
-    for (int r = 0; r < rows; ++r) {
-      const int top = lv.finer_row_top[r];
-      const double s = lv.finer_row_t[r];
-      const int k0 = top * lc, k1 = (top + 1) * lc;
-#pragma omp simd
-      for (int c = 0; c < cols; ++c) {
-        const int i = r * cols + c;
-        const double free = w[i] > 0.0 ? 1.0 : 0.0;
-        const int a = left[c];
-        const double t = tc[c];
-        const double w00 = free * (1 - t) * (1 - s), w01 = free * t * (1 - s),
-                     w10 = free * (1 - t) * s, w11 = free * t * s;
-        ox[i] += w00 * (cx[k0 + a] - c0x[k0 + a]) + w01 * (cx[k0 + a + 1] - c0x[k0 + a + 1]) +
-                 w10 * (cx[k1 + a] - c0x[k1 + a]) + w11 * (cx[k1 + a + 1] - c0x[k1 + a + 1]);
-        oy[i] += w00 * (cy[k0 + a] - c0y[k0 + a]) + w01 * (cy[k0 + a + 1] - c0y[k0 + a + 1]) +
-                 w10 * (cy[k1 + a] - c0y[k1 + a]) + w11 * (cy[k1 + a + 1] - c0y[k1 + a + 1]);
-        oz[i] += w00 * (cz[k0 + a] - c0z[k0 + a]) + w01 * (cz[k0 + a + 1] - c0z[k0 + a + 1]) +
-                 w10 * (cz[k1 + a] - c0z[k1 + a]) + w11 * (cz[k1 + a + 1] - c0z[k1 + a + 1]);
-      }
-    }
-  }
-
-  // One Gauss–Seidel sweep of a level's limits |x_j − x_i| ≤ rest between horizontal and
-  // vertical neighbours (hard: α = 0, no damping).
-  void sweep_level(Level& lv) {
-    double* __restrict px = lv.x.x.data(), * __restrict py = lv.x.y.data(), * __restrict pz = lv.x.z.data();
-    const double* __restrict w = lv.inv_mass.data();
-    const double* __restrict rest_h = lv.rest_h.data();
-    const int lc = lv.cols;
-    for (int colour = 0; colour < 2; ++colour) {
-#pragma omp for schedule(static)
-      for (int b = 0; b < lv.rows; ++b) {
-        const int row = b * lc;
-        const int count = (lc - 1 - colour + 1) / 2;
-#pragma omp simd
-        for (int q = 0; q < count; ++q) {
-          const int a = 2 * q + colour;
-          xpbd_project<true, false>(px, py, pz, nullptr, nullptr, nullptr, w, row + a, row + a + 1,
-                                    rest_h[a], 0.0, 0.0, 0.0);
-        }
-      }
-    }
-    for (int colour = 0; colour < 2; ++colour) {
-#pragma omp for schedule(static)
-      for (int b = colour; b < lv.rows - 1; b += 2) {
-        const int row = b * lc;
-        const double rest = lv.rest_v[b];
-#pragma omp simd
-        for (int a = 0; a < lc; ++a)
-          xpbd_project<true, false>(px, py, pz, nullptr, nullptr, nullptr, w, row + a, row + lc + a,
-                                    rest, 0.0, 0.0, 0.0);
-      }
-    }
-  }
-
   // Long-range attachments on every free particle, pin after pin (project_attachment in
   // long_range.h, branch-free so it vectorises; the limits are tabulated at set-up).
   void apply_attachments() {
@@ -549,7 +353,6 @@ class GridXpbd final : public Solver {
     return dx * dx + dy * dy + dz * dz < reach * reach;
   }
 
-  bool hierarchy_;
   int cols_ = 0, rows_ = 0;
   int substeps_ = 1;
   int iterations_ = kDefaultIterations;
@@ -558,7 +361,6 @@ class GridXpbd final : public Solver {
   std::vector<Vec3> scratch_;  ///< wind forces, AoS as forces.h writes them
   std::vector<Family> families_;
   std::vector<double> lambda_;  ///< per family and first particle; only with iterations > 1
-  std::vector<Level> levels_;
   LongRange attachments_;
   std::vector<double> attachment_limit_;  ///< per pin, per particle, m
 };
@@ -566,11 +368,7 @@ class GridXpbd final : public Solver {
 }  // namespace
 
 std::unique_ptr<Solver> make_xpbd() {
-  return std::make_unique<GridXpbd>(false);
-}
-
-std::unique_ptr<Solver> make_hierarchical() {
-  return std::make_unique<GridXpbd>(true);
+  return std::make_unique<GridXpbd>();
 }
 
 }  // namespace drape
