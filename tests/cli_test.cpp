@@ -9,6 +9,8 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "temp_dir.h"
+
 namespace {
 
 namespace fs = std::filesystem;
@@ -36,23 +38,13 @@ std::string scene(const std::string& name) {
   return std::string(DRAPE_SOURCE_DIR) + "/scenes/" + name + ".json";
 }
 
-class Cli : public ::testing::Test {
+class Cli : public drape::testing_support::TempDirTest {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           (std::string("drape_cli_") +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name() + "_" +
-            std::to_string(getpid()));
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-  std::string path(const std::string& name) const { return (dir_ / name).string(); }
+  Cli() : TempDirTest("drape_cli_") {}
   json read_json(const std::string& file) const {
     std::ifstream in(file);
     return json::parse(in);
   }
-  fs::path dir_;
 };
 
 TEST_F(Cli, EveryShippedSceneRunsAndWritesItsStats) {
@@ -62,11 +54,10 @@ TEST_F(Cli, EveryShippedSceneRunsAndWritesItsStats) {
     ASSERT_EQ(r.code, 0) << r.output;
     EXPECT_NE(r.output.find("frames"), std::string::npos);
     const json s = read_json(stats);
-    for (const char* key :
-         {"status", "diverged_frame", "method", "particles", "springs", "frames",
-          "substeps_per_frame", "sim_seconds", "wall_seconds", "setup_ms", "ms_per_frame",
-          "kinetic_energy", "max_strain", "mean_strain", "max_penetration", "pinned_drift",
-          "finite"})
+    for (const char* key : {"status", "diverged_frame", "method", "particles", "springs", "frames",
+                            "substeps_per_frame", "sim_seconds", "wall_seconds", "setup_ms",
+                            "ms_per_frame", "kinetic_energy", "max_strain", "mean_strain",
+                            "max_penetration", "pinned_drift", "finite"})
       EXPECT_TRUE(s.contains(key)) << name << " lacks " << key;
     EXPECT_EQ(s["status"], "ok");
     EXPECT_TRUE(s["diverged_frame"].is_null());
@@ -112,8 +103,8 @@ TEST_F(Cli, ExportsEveryNthFrameAndTheLastAsObj) {
 
 TEST_F(Cli, ExportsPlyWithAHeaderMeshLabReads) {
   const std::string out = path("ply");
-  const Result r = drape("run " + scene("sphere") + " --seconds 0.05 --export " + out +
-                         " --format ply --quiet");
+  const Result r =
+      drape("run " + scene("sphere") + " --seconds 0.05 --export " + out + " --format ply --quiet");
   ASSERT_EQ(r.code, 0) << r.output;
   const fs::path file = fs::path(out) / "frame_00003.ply";
   ASSERT_TRUE(fs::exists(file));
@@ -133,16 +124,17 @@ TEST_F(Cli, ExportRefusesAFolderFromAnEarlierRunUnlessForced) {
   const Result again = drape("run " + scene("hang") + " --seconds 0.05 --export " + out);
   EXPECT_EQ(again.code, 2);
   EXPECT_NE(again.output.find("--force"), std::string::npos) << again.output;
-  EXPECT_EQ(drape("run " + scene("hang") + " --seconds 0.05 --export " + out + " --force --quiet")
-                .code,
-            0);
+  EXPECT_EQ(
+      drape("run " + scene("hang") + " --seconds 0.05 --export " + out + " --force --quiet").code,
+      0);
 }
 
 TEST_F(Cli, SetOverridesAnyKey) {
   const std::string stats = path("s.json");
   const Result r = drape("run " + scene("hang") +
                          " --seconds 0.05 --set cloth.resolution=[8,6] --set solver.substeps=7"
-                         " --set name=small --stats " + stats);
+                         " --set name=small --stats " +
+                         stats);
   ASSERT_EQ(r.code, 0) << r.output;
   const json s = read_json(stats);
   EXPECT_EQ(s["particles"], 48);
@@ -155,7 +147,9 @@ struct BadRun {
   const char* words;
 };
 
-void PrintTo(const BadRun& r, std::ostream* os) { *os << r.args; }
+void PrintTo(const BadRun& r, std::ostream* os) {
+  *os << r.args;
+}
 
 class CliBadInput : public Cli, public ::testing::WithParamInterface<BadRun> {};
 
@@ -173,32 +167,29 @@ TEST_P(CliBadInput, ExitsTwoWithOneClearMessageAndWritesNothing) {
 
 INSTANTIATE_TEST_SUITE_P(
     Cases, CliBadInput,
-    ::testing::Values(BadRun{"DIR/missing.json", "missing.json: no such file"},
-                      BadRun{"HANG --set cloth.mass=-1", "cloth.mass: is -1"},
-                      BadRun{"HANG --set cloth.masss=2", "did you mean \"mass\""},
-                      BadRun{"HANG --set solver.method=rk4", "solver.method"},
-                      BadRun{"HANG --set cloth.springs.structural.stiffness=1e9",
-                             "substeps per frame"},
-                      BadRun{"HANG --seconds -1", "duration"},
-                      BadRun{"HANG --every 0", "--every"},
-                      BadRun{"HANG --format stl", "--format"},
-                      BadRun{"HANG --no-such-flag", "no-such-flag"},
-                      // Budgets that protect the machine, lifted only by --force.
-                      BadRun{"HANG --set cloth.resolution=[3000,3000]", "GiB budget"},
-                      BadRun{"HANG --set cloth.resolution=[200000,200000]",
-                             "40000000000 particles"},
-                      BadRun{"HANG --set solver.dt=1e-6 --seconds 86400", "hours of work"},
-                      // Legal-looking but wild values.
-                      BadRun{"HANG --set cloth.springs.structural.stiffness=1e308",
-                             "inf substeps"},
-                      BadRun{"HANG --set solver.dt=1e-320", "solver.dt"},
-                      BadRun{"HANG --set cloth.mass=1e11", "cloth.mass"}));
+    ::testing::Values(
+        BadRun{"DIR/missing.json", "missing.json: no such file"},
+        BadRun{"HANG --set cloth.mass=-1", "cloth.mass: is -1"},
+        BadRun{"HANG --set cloth.masss=2", "did you mean \"mass\""},
+        BadRun{"HANG --set solver.method=rk4", "solver.method"},
+        BadRun{"HANG --set cloth.springs.structural.stiffness=1e9", "substeps per frame"},
+        BadRun{"HANG --seconds -1", "duration"}, BadRun{"HANG --every 0", "--every"},
+        BadRun{"HANG --format stl", "--format"}, BadRun{"HANG --no-such-flag", "no-such-flag"},
+        // Budgets that protect the machine, lifted only by --force.
+        BadRun{"HANG --set cloth.resolution=[3000,3000]", "GiB budget"},
+        BadRun{"HANG --set cloth.resolution=[200000,200000]", "40000000000 particles"},
+        BadRun{"HANG --set solver.dt=1e-6 --seconds 86400", "hours of work"},
+        // Legal-looking but wild values.
+        BadRun{"HANG --set cloth.springs.structural.stiffness=1e308", "inf substeps"},
+        BadRun{"HANG --set solver.dt=1e-320", "solver.dt"},
+        BadRun{"HANG --set cloth.mass=1e11", "cloth.mass"}));
 
 TEST_F(Cli, DivergenceExitsThreeWithFrameAndHintAndStillWritesStats) {
   const std::string stats = path("d.json");
   const Result r = drape("run " + scene("hang") +
                          " --set cloth.springs.structural.stiffness=1e9 --set solver.substeps=1"
-                         " --stats " + stats);
+                         " --stats " +
+                         stats);
   EXPECT_EQ(r.code, 3) << r.output;
   EXPECT_NE(r.output.find("diverged at frame 1"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("smaller solver.dt"), std::string::npos) << r.output;
@@ -217,7 +208,8 @@ TEST_F(Cli, AStiffSceneExplodesWithSymplecticAndRunsWithImplicit) {
   EXPECT_NE(explicit_run.output.find("symplectic method"), std::string::npos);
   EXPECT_NE(explicit_run.output.find("implicit method"), std::string::npos);  // the hint
   EXPECT_EQ(read_json(path("symplectic.json"))["status"], "diverged");
-  const Result implicit_run = drape(stiff + path("implicit.json") + " --set solver.method=implicit");
+  const Result implicit_run =
+      drape(stiff + path("implicit.json") + " --set solver.method=implicit");
   EXPECT_EQ(implicit_run.code, 0) << implicit_run.output;
   const json s = read_json(path("implicit.json"));
   EXPECT_EQ(s["status"], "ok");
@@ -230,7 +222,8 @@ TEST_F(Cli, WildButLegalValuesEndWithinSecondsAsOkOrDiverged) {
                          " --set cloth.springs.structural.stiffness=1e308 --set solver.substeps=1");
   EXPECT_EQ(r.code, 3) << r.output;
   EXPECT_NE(r.output.find("diverged at frame"), std::string::npos) << r.output;
-  const Result heavy = drape("run " + scene("sphere") + " --set cloth.mass=1e6 --seconds 1 --quiet");
+  const Result heavy =
+      drape("run " + scene("sphere") + " --set cloth.mass=1e6 --seconds 1 --quiet");
   EXPECT_EQ(heavy.code, 0) << heavy.output;
 }
 
@@ -251,8 +244,8 @@ TEST_F(Cli, BenchInterruptedWritesTheRowsSoFarAndExits130) {
   const std::string out = path("bench");
   const std::string command = std::string(DRAPE_EXE) +
                               " bench --scenes hang --sizes 16 --methods symplectic --threads 1"
-                              " --frames 1000000 --max-updates 1e15 --out " + out +
-                              " >/dev/null 2>&1 & pid=$!; sleep 1; kill -INT $pid; wait $pid";
+                              " --frames 1000000 --max-updates 1e15 --out " +
+                              out + " >/dev/null 2>&1 & pid=$!; sleep 1; kill -INT $pid; wait $pid";
   const int status = std::system(("bash -c '" + command + "'").c_str());
   ASSERT_TRUE(WIFEXITED(status));
   EXPECT_EQ(WEXITSTATUS(status), 130);
@@ -264,8 +257,10 @@ TEST_F(Cli, BenchInterruptedWritesTheRowsSoFarAndExits130) {
 
 TEST_F(Cli, BenchReportsSpeedBesideQuality) {
   const std::string out = path("bench");
-  const Result r = drape("bench --scenes hang,drape --sizes 12 --methods symplectic --threads 1"
-                         " --frames 30 --out " + out);
+  const Result r = drape(
+      "bench --scenes hang,drape --sizes 12 --methods symplectic --threads 1"
+      " --frames 30 --out " +
+      out);
   ASSERT_EQ(r.code, 0) << r.output;
   const json rows = read_json(out + "/bench.json");
   ASSERT_EQ(rows.size(), 2u);

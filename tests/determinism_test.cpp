@@ -12,9 +12,12 @@
 
 #include "drape/simulation.h"
 #include "io/scene_io.h"
+#include "test_scenes.h"
 
 namespace drape {
 namespace {
+
+using testing_support::shipped;
 
 // FNV-1a over the bytes of every position and velocity.
 uint64_t state_hash(const ClothState& s) {
@@ -32,10 +35,6 @@ uint64_t run(SceneDef def, int frames) {
   Simulation sim(def);
   for (int f = 0; f < frames; ++f) EXPECT_TRUE(sim.step()) << sim.divergence();
   return state_hash(sim.state());
-}
-
-SceneDef shipped(const std::string& name) {
-  return io::load_scene(std::string(DRAPE_SOURCE_DIR) + "/scenes/" + name + ".json");
 }
 
 TEST(Determinism, EachShippedSceneAndMethodHashesTheSameTwice) {

@@ -7,24 +7,13 @@
 #include "drape/error.h"
 #include "drape/simulation.h"
 #include "io/scene_io.h"
+#include "test_scenes.h"
 
 namespace drape {
 namespace {
 
-SceneDef shipped(const std::string& name) {
-  return io::load_scene(std::string(DRAPE_SOURCE_DIR) + "/scenes/" + name + ".json");
-}
-
-// A cloth with nothing but what a test turns on: no gravity, drag, wind, pins or perturbation.
-SceneDef bare() {
-  SceneDef def;
-  def.cloth.cols = def.cloth.rows = 8;
-  def.cloth.pins.clear();
-  def.cloth.perturbation = 0.0;
-  def.forces.gravity = Vec3::Zero();
-  def.forces.air_drag = 0.0;
-  return def;
-}
+using testing_support::bare;
+using testing_support::shipped;
 
 Vec3 centre(const Simulation& sim) {
   Vec3 c = Vec3::Zero();
@@ -146,7 +135,9 @@ TEST_P(WindModels, EdgeOnWindMovesAFlatClothNotAtAll) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Both, WindModels, ::testing::Values(WindModel::seed, WindModel::aero),
-                         [](const auto& param_info) { return std::string(to_string(param_info.param)); });
+                         [](const auto& param_info) {
+                           return std::string(to_string(param_info.param));
+                         });
 
 TEST(Divergence, AnUnstableStepIsCaughtWithinAFrame) {
   SceneDef def = shipped("hang");
@@ -242,9 +233,9 @@ TEST(Grid, BuildsTheThreeSpringKindsWithFlatRestLengths) {
                                                              : 2.0;
     EXPECT_NEAR(s.rest, expected, 1e-12);
   }
-  EXPECT_EQ(count[0], 4 * 4 + 5 * 3);      // horizontal + vertical neighbours
-  EXPECT_EQ(count[1], 2 * 4 * 3);          // two diagonals per quad
-  EXPECT_EQ(count[2], 3 * 4 + 5 * 2);      // two steps right + two steps down
+  EXPECT_EQ(count[0], 4 * 4 + 5 * 3);  // horizontal + vertical neighbours
+  EXPECT_EQ(count[1], 2 * 4 * 3);      // two diagonals per quad
+  EXPECT_EQ(count[2], 3 * 4 + 5 * 2);  // two steps right + two steps down
   EXPECT_EQ(m.triangles.size(), 2u * 4 * 3);
   // The colouring is valid: no two springs of one colour share a particle.
   for (int c = 0; c < m.colours(); ++c) {

@@ -16,25 +16,13 @@
 #include "forces.h"
 #include "io/scene_io.h"
 #include "long_range.h"
+#include "test_scenes.h"
 
 namespace drape {
 namespace {
 
-SceneDef shipped(const std::string& name) {
-  return io::load_scene(std::string(DRAPE_SOURCE_DIR) + "/scenes/" + name + ".json");
-}
-
-// A cloth with nothing but what a test turns on: no gravity, drag, wind, pins or perturbation.
-SceneDef bare(Method method) {
-  SceneDef def;
-  def.cloth.cols = def.cloth.rows = 8;
-  def.cloth.pins.clear();
-  def.cloth.perturbation = 0.0;
-  def.forces.gravity = Vec3::Zero();
-  def.forces.air_drag = 0.0;
-  def.solver.method = method;
-  return def;
-}
+using testing_support::bare;
+using testing_support::shipped;
 
 Vec3 momentum(const Simulation& sim) {
   Vec3 p = Vec3::Zero();

@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "stb_image.h"
+#include "temp_dir.h"
 
 namespace {
 
@@ -98,8 +99,9 @@ Picture analyse(const std::string& file) {
   return p;
 }
 
-class ViewerSmoke : public ::testing::Test {
+class ViewerSmoke : public drape::testing_support::TempDirTest {
  protected:
+  ViewerSmoke() : TempDirTest("drape_view_") {}
   static void SetUpTestSuite() {
     // In the sanitizer build, the drape processes these tests start load the OpenGL drivers
     // (Mesa, llvmpipe, X11), which leak a few bytes at exit from modules they have already
@@ -108,17 +110,6 @@ class ViewerSmoke : public ::testing::Test {
     // run in drape_render_tests. A value the caller set wins.
     setenv("LSAN_OPTIONS", "detect_leaks=0", 0);
   }
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           (std::string("drape_view_") +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name() + "_" +
-            std::to_string(getpid()));
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-  std::string path(const std::string& name) const { return (dir_ / name).string(); }
-  fs::path dir_;
 };
 
 TEST_F(ViewerSmoke, EveryShippedSceneShowsTheClothInTheViewer) {

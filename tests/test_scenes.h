@@ -1,0 +1,28 @@
+// Scenes several test files share: the shipped ones and a bare cloth.
+#pragma once
+
+#include <string>
+
+#include "drape/scene.h"
+#include "io/scene_io.h"
+
+namespace drape::testing_support {
+
+/// A scene from scenes/, as shipped.
+inline SceneDef shipped(const std::string& name) {
+  return io::load_scene(std::string(DRAPE_SOURCE_DIR) + "/scenes/" + name + ".json");
+}
+
+/// A cloth with nothing but what a test turns on: no gravity, drag, wind, pins or perturbation.
+inline SceneDef bare(Method method = Method::symplectic) {
+  SceneDef def;
+  def.cloth.cols = def.cloth.rows = 8;
+  def.cloth.pins.clear();
+  def.cloth.perturbation = 0.0;
+  def.forces.gravity = Vec3::Zero();
+  def.forces.air_drag = 0.0;
+  def.solver.method = method;
+  return def;
+}
+
+}  // namespace drape::testing_support
