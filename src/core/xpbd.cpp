@@ -5,10 +5,12 @@
 // by colour, apply long-range attachments, resolve contacts on positions, derive
 // v = (x − x_prev)/h.
 //
-// The state is kept as structure-of-arrays, and a family of springs (one direction of one
-// kind) is swept row by row, so the inner loops are contiguous (or strided by 2 or 4 along a
-// row) and vectorise. Rows are split between threads; a colour's springs share no particle,
-// so the result has the same bits for any thread count.
+// The state is kept as structure-of-arrays in a layout where every row holds its columns
+// grouped by residue mod 4 (GridLayout), and a family of springs (one direction of one kind)
+// is swept row by row: whatever the direction, a row's springs of one colour are then a few
+// contiguous runs, so the inner loops vectorise without gathers. Rows are split between
+// threads; a colour's springs share no particle, so the result has the same bits for any
+// thread count (and for any order inside a colour, layout included).
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -38,6 +40,28 @@ struct Soa {
   }
 };
 
+/// Where a particle lives in the solver's arrays. Each row is padded to four blocks of equal
+/// length holding the columns c ≡ 0, 1, 2, 3 (mod 4), in order. A spring from column c to
+/// column c + dc with |dc| ≤ 3 then joins slot k of one block to slot k (or k ± 1) of another,
+/// so the springs whose first column has one residue run contiguously at both ends. Padding
+/// slots carry no particle: zero inverse mass and no spring.
+struct GridLayout {
+  int cols = 0, rows = 0;
+  int block = 0;   ///< slots per residue block: ceil(cols / 4)
+  int stride = 0;  ///< slots per row: 4·block
+
+  void prepare(int c, int r) {
+    cols = c;
+    rows = r;
+    block = (c + 3) / 4;
+    stride = 4 * block;
+  }
+  int32_t size() const { return rows * stride; }
+  int32_t index(int r, int c) const { return r * stride + (c & 3) * block + (c >> 2); }
+  /// The slot of particle i (row-major index in the cloth).
+  int32_t slot(int32_t i) const { return index(i / cols, i % cols); }
+};
+
 /// One family of fine springs: from (c, r) to (c + dc, r + dr), all of one kind, with one rest
 /// length, stiffness and damping (build_grid makes them so; prepare() checks).
 struct Family {
@@ -52,21 +76,26 @@ class GridXpbd final : public Solver {
     const ClothModel& m = w.model;
     cols_ = m.cols;
     rows_ = m.rows;
-    const int32_t n = m.size();
-    x_.resize(n);
-    x_prev_.resize(n);
-    v_.resize(n);
-    accel_.resize(n);
+    grid_.prepare(cols_, rows_);
+    const int32_t n = m.size(), slots = grid_.size();
+    x_.resize(slots);
+    x_prev_.resize(slots);
+    v_.resize(slots);
+    accel_.resize(slots);
+    inv_mass_.assign(slots, 0.0);  // padding slots stay at zero: they never move
     scratch_.assign(n, Vec3::Zero());
-    inv_mass_ = w.state.inv_mass;
     prepare_families(m);
     iterations_ = def.iterations > 0 ? def.iterations : kDefaultIterations;
-    lambda_.assign(iterations_ > 1 ? families_.size() * static_cast<size_t>(n) : 0, 0.0);
+    lambda_.assign(iterations_ > 1 ? families_.size() * static_cast<size_t>(slots) : 0, 0.0);
     attachments_.prepare(m, w.state, w.long_range);
-    attachment_limit_.resize(attachments_.pins().size() * static_cast<size_t>(n));
-    for (size_t k = 0; k < attachments_.pins().size(); ++k)
+    const std::vector<int32_t>& pins = attachments_.pins();
+    pin_slot_.resize(pins.size());
+    attachment_limit_.assign(pins.size() * static_cast<size_t>(slots), 0.0);
+    for (size_t k = 0; k < pins.size(); ++k) {
+      pin_slot_[k] = grid_.slot(pins[k]);
       for (int32_t i = 0; i < n; ++i)
-        attachment_limit_[k * n + i] = attachments_.limit(m, i, attachments_.pins()[k]);
+        attachment_limit_[k * slots + grid_.slot(i)] = attachments_.limit(m, i, pins[k]);
+    }
     if (def.substeps > 0) {
       substeps_ = def.substeps;
       return;
@@ -95,17 +124,18 @@ class GridXpbd final : public Solver {
     {
 #pragma omp for schedule(static)
       for (int32_t i = 0; i < n; ++i) {
+        const int32_t p = grid_.slot(i);
         const Vec3 a = wind ? Vec3(g + s.inv_mass[i] * scratch_[i]) : g;
-        accel_.x[i] = a.x();
-        accel_.y[i] = a.y();
-        accel_.z[i] = a.z();
-        x_.x[i] = s.x[i].x();
-        x_.y[i] = s.x[i].y();
-        x_.z[i] = s.x[i].z();
-        v_.x[i] = s.v[i].x();
-        v_.y[i] = s.v[i].y();
-        v_.z[i] = s.v[i].z();
-        inv_mass_[i] = s.inv_mass[i];
+        accel_.x[p] = a.x();
+        accel_.y[p] = a.y();
+        accel_.z[p] = a.z();
+        x_.x[p] = s.x[i].x();
+        x_.y[p] = s.x[i].y();
+        x_.z[p] = s.x[i].z();
+        v_.x[p] = s.v[i].x();
+        v_.y[p] = s.v[i].y();
+        v_.z[p] = s.v[i].z();
+        inv_mass_[p] = s.inv_mass[i];
       }
       for (int k = 0; k < substeps_; ++k) {
         predict(h, drag);
@@ -115,8 +145,9 @@ class GridXpbd final : public Solver {
       }
 #pragma omp for schedule(static)
       for (int32_t i = 0; i < n; ++i) {
-        s.x[i] = Vec3(x_.x[i], x_.y[i], x_.z[i]);
-        s.v[i] = Vec3(v_.x[i], v_.y[i], v_.z[i]);
+        const int32_t p = grid_.slot(i);
+        s.x[i] = Vec3(x_.x[p], x_.y[p], x_.z[p]);
+        s.v[i] = Vec3(v_.x[p], v_.y[p], v_.z[p]);
       }
     }
     update_normals(m, s);
@@ -157,9 +188,12 @@ class GridXpbd final : public Solver {
         ++counts[it - families_.begin()];
       }
     }
-    // Every spring of a family must be present for the row loops to be right.
+    // Every spring of a family must be present for the row loops to be right, and its
+    // direction one that GridLayout keeps contiguous and the colouring keeps independent.
     for (size_t k = 0; k < families_.size(); ++k) {
       const Family& f = families_[k];
+      if (std::abs(f.dc) > 3 || (f.dr == 0 && f.dc > 2))
+        throw std::logic_error("xpbd: spring direction not supported by the grid layout");
       const int64_t expected = int64_t{cols_ - std::abs(f.dc)} * (rows_ - f.dr);
       if (counts[k] != expected) throw std::logic_error("xpbd: grid family incomplete");
     }
@@ -190,7 +224,7 @@ class GridXpbd final : public Solver {
 
   // v += h·a, semi-implicit drag, x_prev = x, x += h·v. Pinned and held particles stay put.
   void predict(double h, double air_drag) {
-    const int32_t n = cols_ * rows_;
+    const int32_t n = grid_.size();
     double* __restrict px = x_.x.data(), * __restrict py = x_.y.data(), * __restrict pz = x_.z.data();
     double *__restrict qx = x_prev_.x.data(), *__restrict qy = x_prev_.y.data(),
                        *__restrict qz = x_prev_.z.data();
@@ -228,16 +262,16 @@ class GridXpbd final : public Solver {
         if (lambda_.empty()) {
           sweep_family<false>(f, colour, alpha_tilde, gamma, nullptr, true);
         } else {
-          double* lambda = lambda_.data() + k * cols_ * rows_;
+          double* lambda = lambda_.data() + k * grid_.size();
           sweep_family<true>(f, colour, alpha_tilde, gamma, lambda, iteration == 0);
         }
       }
     }
   }
 
-  // The springs of family f whose colour is `colour`: for dr > 0 the rows r with
-  // (r / dr) even or odd, each row's springs contiguous; for dr = 0 the springs along a row
-  // whose (c / dc) is even or odd. Springs are indexed for λ by their first particle.
+  // The springs of family f whose colour is `colour`: for dr > 0 the rows r with (r / dr) even
+  // or odd; for dr = 0 the springs whose first column c has (c / dc) even or odd, which for
+  // dc ≤ 2 depends on c mod 4 alone. Springs are indexed for λ by their first particle's slot.
   template <bool kLambda>
   void sweep_family(const Family& f, int colour, double alpha_tilde, double gamma,
                     double* __restrict lambda, bool first) {
@@ -245,7 +279,6 @@ class GridXpbd final : public Solver {
     const double *__restrict qx = x_prev_.x.data(), *__restrict qy = x_prev_.y.data(),
                              *__restrict qz = x_prev_.z.data();
     const double* __restrict w = inv_mass_.data();
-    const int cols = cols_;
     const double rest = f.rest;
     // λ is kept only when several iterations need it; with one it is 0 at the start.
     auto one = [&](int i, int j) {
@@ -257,51 +290,47 @@ class GridXpbd final : public Solver {
         xpbd_project<false, true>(px, py, pz, qx, qy, qz, w, i, j, rest, alpha_tilde, gamma, 0.0);
       }
     };
+    // The springs from row r to row r + f.dr whose first column is ≡ b (mod 4): columns
+    // cs = 4k + b in [shift, shift + span), partners cs + dc at residue b2, slot k + carry.
+    const int span = cols_ - std::abs(f.dc);
+    auto run = [&](int r, int b) {
+      const int t = b + f.dc + 4, b2 = t & 3, carry = t / 4 - 1;
+      const int k_begin = std::max(0, (f.shift - b + 3) / 4);
+      const int k_end = std::max(0, (f.shift + span - b + 3) / 4);
+      const int i0 = r * grid_.stride + b * grid_.block;
+      const int j0 = (r + f.dr) * grid_.stride + b2 * grid_.block + carry;
+#pragma omp simd
+      for (int k = k_begin; k < k_end; ++k) one(i0 + k, j0 + k);
+    };
     if (f.dr > 0) {
-      const int span = cols - std::abs(f.dc);
       const int bands = (rows_ - f.dr + f.dr - 1) / f.dr;  // row bands of height dr
       // Band b covers rows [b·dr, b·dr + dr); colour = b mod 2.
 #pragma omp for schedule(static)
-      for (int b = colour; b < bands; b += 2) {
-        for (int r = b * f.dr; r < std::min((b + 1) * f.dr, rows_ - f.dr); ++r) {
-          const int i0 = r * cols + f.shift, j0 = (r + f.dr) * cols + f.shift + f.dc;
-#pragma omp simd
-          for (int c = 0; c < span; ++c) one(i0 + c, j0 + c);
-        }
-      }
+      for (int band = colour; band < bands; band += 2)
+        for (int r = band * f.dr; r < std::min((band + 1) * f.dr, rows_ - f.dr); ++r)
+          for (int b = 0; b < 4; ++b) run(r, b);
     } else {
-      const int dc = f.dc;
 #pragma omp for schedule(static)
-      for (int r = 0; r < rows_; ++r) {
-        const int row = r * cols;
-        for (int e = 0; e < dc; ++e) {
-          // Springs at c = (2q + colour)·dc + e, for q = 0, 1, ...
-          const int first_c = colour * dc + e, step = 2 * dc;
-          const int count = first_c + dc < cols ? (cols - dc - first_c + step - 1) / step : 0;
-#pragma omp simd
-          for (int q = 0; q < count; ++q) {
-            const int i = row + first_c + q * step;
-            one(i, i + dc);
-          }
-        }
-      }
+      for (int r = 0; r < rows_; ++r)
+        for (int b = 0; b < 4; ++b)
+          if (((b / f.dc) & 1) == colour) run(r, b);
     }
   }
 
   // Long-range attachments on every free particle, pin after pin (project_attachment in
   // long_range.h, branch-free so it vectorises; the limits are tabulated at set-up).
   void apply_attachments() {
-    const int32_t n = cols_ * rows_;
+    const int32_t n = grid_.size();
     double* __restrict px = x_.x.data(), * __restrict py = x_.y.data(), * __restrict pz = x_.z.data();
     const double* __restrict w = inv_mass_.data();
-    const std::vector<int32_t>& pins = attachments_.pins();
 #pragma omp for schedule(static)
     for (int r = 0; r < rows_; ++r) {
-      for (size_t k = 0; k < pins.size(); ++k) {
-        const double ax = px[pins[k]], ay = py[pins[k]], az = pz[pins[k]];
+      for (size_t k = 0; k < pin_slot_.size(); ++k) {
+        const int32_t pin = pin_slot_[k];
+        const double ax = px[pin], ay = py[pin], az = pz[pin];
         const double* __restrict limit = attachment_limit_.data() + k * n;
 #pragma omp simd
-        for (int i = r * cols_; i < (r + 1) * cols_; ++i) {
+        for (int i = r * grid_.stride; i < (r + 1) * grid_.stride; ++i) {
           const double dx = px[i] - ax, dy = py[i] - ay, dz = pz[i] - az;
           const double len = std::sqrt(dx * dx + dy * dy + dz * dz);
           const bool pull = w[i] > 0.0 && len > limit[i];
@@ -320,14 +349,15 @@ class GridXpbd final : public Solver {
     const double inv_h = 1.0 / h;
 #pragma omp for schedule(static)
     for (int r = 0; r < rows_; ++r) {
-      const int i0 = r * cols_;
+      const int i0 = r * grid_.stride;
+      const double* __restrict w = inv_mass_.data() + i0;
       double* __restrict px = x_.x.data() + i0, * __restrict py = x_.y.data() + i0, * __restrict pz = x_.z.data() + i0;
       const double *__restrict qx = x_prev_.x.data() + i0, *__restrict qy = x_prev_.y.data() + i0,
                                *__restrict qz = x_prev_.z.data() + i0;
       double* __restrict vx = v_.x.data() + i0, * __restrict vy = v_.y.data() + i0, * __restrict vz = v_.z.data() + i0;
       for (const Collider& col : colliders) {
-        for (int c = 0; c < cols_; ++c) {
-          if (inv_mass_[i0 + c] == 0.0 || !near(col, px[c], py[c], pz[c])) continue;
+        for (int c = 0; c < grid_.stride; ++c) {
+          if (w[c] == 0.0 || !near(col, px[c], py[c], pz[c])) continue;
           Vec3 x(px[c], py[c], pz[c]);
           resolve_contact_position(col, Vec3(qx[c], qy[c], qz[c]), x);
           px[c] = x.x();
@@ -336,7 +366,7 @@ class GridXpbd final : public Solver {
         }
       }
 #pragma omp simd
-      for (int c = 0; c < cols_; ++c) {
+      for (int c = 0; c < grid_.stride; ++c) {
         vx[c] = (px[c] - qx[c]) * inv_h;
         vy[c] = (py[c] - qy[c]) * inv_h;
         vz[c] = (pz[c] - qz[c]) * inv_h;
@@ -354,15 +384,17 @@ class GridXpbd final : public Solver {
   }
 
   int cols_ = 0, rows_ = 0;
+  GridLayout grid_;
   int substeps_ = 1;
   int iterations_ = kDefaultIterations;
   Soa x_, x_prev_, v_, accel_;
-  std::vector<double> inv_mass_;
-  std::vector<Vec3> scratch_;  ///< wind forces, AoS as forces.h writes them
+  std::vector<double> inv_mass_;  ///< per slot; zero for pins, held particles and padding
+  std::vector<Vec3> scratch_;     ///< wind forces, AoS as forces.h writes them
   std::vector<Family> families_;
-  std::vector<double> lambda_;  ///< per family and first particle; only with iterations > 1
+  std::vector<double> lambda_;  ///< per family and first slot; only with iterations > 1
   LongRange attachments_;
-  std::vector<double> attachment_limit_;  ///< per pin, per particle, m
+  std::vector<int32_t> pin_slot_;         ///< the attachments' pins, as slots
+  std::vector<double> attachment_limit_;  ///< per pin, per slot, m
 };
 
 }  // namespace
