@@ -2,6 +2,9 @@
 //   build/bench/drape_kernels --benchmark_filter=Springs
 #include <benchmark/benchmark.h>
 
+#include <vector>
+
+#include "constraints.h"
 #include "drape/simulation.h"
 #include "forces.h"
 
@@ -25,6 +28,36 @@ void Springs(benchmark::State& st) {
   st.SetItemsProcessed(st.iterations() * sim.model().springs.size());
 }
 BENCHMARK(Springs)->Arg(32)->Arg(128)->Arg(256);
+
+// One colour of XPBD distance projections as the xpbd sweep runs them: the vertical springs of
+// every other row of an N×N grid in structure-of-arrays storage, in double or float.
+template <typename Real>
+void Projection(benchmark::State& st) {
+  const int n = static_cast<int>(st.range(0));
+  const Real spacing = Real(2) / static_cast<Real>(n - 1);
+  std::vector<Real> x(n * n), y(n * n), z(n * n, Real(0)), w(n * n, Real(n) * Real(n));
+  for (int i = 0; i < n * n; ++i) {
+    x[i] = static_cast<Real>(i % n) * spacing;
+    y[i] = -static_cast<Real>(i / n) * spacing * Real(1.001);  // stretched 0.1%
+  }
+  const std::vector<Real> qx = x, qy = y, qz = z;
+  const Real alpha_tilde = Real(1e-5) * Real(3600 * 400), gamma = Real(1e-5) * Real(60 * 20);
+  int64_t springs = 0;
+  for (auto _ : st) {
+    for (int r = 0; r + 1 < n; r += 2) {
+      const int i0 = r * n, j0 = i0 + n;
+#pragma omp simd
+      for (int c = 0; c < n; ++c)
+        xpbd_project<false, true>(x.data(), y.data(), z.data(), qx.data(), qy.data(), qz.data(),
+                                  w.data(), i0 + c, j0 + c, spacing, alpha_tilde, gamma, Real(0));
+      springs += n;
+    }
+    benchmark::DoNotOptimize(x.data());
+  }
+  st.SetItemsProcessed(springs);
+}
+BENCHMARK(Projection<double>)->Arg(32)->Arg(128)->Arg(256);
+BENCHMARK(Projection<float>)->Arg(32)->Arg(128)->Arg(256);
 
 void Normals(benchmark::State& st) {
   Simulation sim(grid(static_cast<int>(st.range(0))));
@@ -57,6 +90,19 @@ void Frame(benchmark::State& st) {
   st.SetItemsProcessed(st.iterations() * sim.model().size());
 }
 BENCHMARK(Frame)->Arg(32)->Arg(128);
+
+// One frame of xpbd at 20 substeps with long-range attachments (hang-lr), in each precision.
+void XpbdFrame(benchmark::State& st) {
+  SceneDef def = grid(static_cast<int>(st.range(0)));
+  def.solver.method = Method::xpbd;
+  def.solver.precision = st.range(1) ? Precision::f32 : Precision::f64;
+  def.solver.substeps = 20;
+  def.cloth.long_range.enabled = true;
+  Simulation sim(def);
+  for (auto _ : st) sim.step();
+  st.SetItemsProcessed(st.iterations() * sim.model().size() * def.solver.substeps);
+}
+BENCHMARK(XpbdFrame)->ArgsProduct({{128, 256}, {0, 1}})->ArgNames({"n", "single"});
 
 }  // namespace
 }  // namespace drape

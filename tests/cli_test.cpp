@@ -279,6 +279,29 @@ TEST_F(Cli, BenchReportsSpeedBesideQuality) {
   EXPECT_EQ(drape("bench --methods rk4 --out " + out).code, 2);
 }
 
+TEST_F(Cli, BenchRunsXpbdInBothPrecisionsAndOthersInDouble) {
+  const std::string out = path("bench");
+  const Result r = drape(
+      "bench --scenes hang-lr --sizes 12 --methods symplectic,xpbd --threads 1 --no-search"
+      " --frames 10 --out " +
+      out);
+  ASSERT_EQ(r.code, 0) << r.output;
+  const json rows = read_json(out + "/bench.json");
+  ASSERT_EQ(rows.size(), 3u);
+  EXPECT_EQ(rows[0]["method"], "symplectic");
+  EXPECT_EQ(rows[0]["precision"], "double");
+  EXPECT_EQ(rows[1]["method"], "xpbd");
+  EXPECT_EQ(rows[1]["precision"], "double");
+  EXPECT_EQ(rows[2]["method"], "xpbd");
+  EXPECT_EQ(rows[2]["precision"], "single");
+  for (const json& row : rows) EXPECT_EQ(row["status"], "ok");
+  // Nothing to run, or a precision that does not exist: an error, not an empty table.
+  const Result none = drape("bench --methods symplectic --precision single --out " + out);
+  EXPECT_EQ(none.code, 2);
+  EXPECT_NE(none.output.find("only xpbd"), std::string::npos) << none.output;
+  EXPECT_EQ(drape("bench --precision quad --out " + out).code, 2);
+}
+
 TEST_F(Cli, TerminateKeepsTheExportsSoFarAndExits143) {
   const std::string out = path("term");
   const std::string command = std::string(DRAPE_EXE) + " run " + scene("hang") +

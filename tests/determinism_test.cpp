@@ -58,12 +58,21 @@ TEST(Determinism, TheThreadCountDoesNotChangeTheBits) {
   def.cloth.mass = 100.0;  // heavy, so a few substeps are stable and the test stays quick
   def.solver.substeps = 20;
   const int before = omp_get_max_threads();
-  omp_set_num_threads(1);
-  const uint64_t one = run(def, 3);
-  omp_set_num_threads(2);
-  const uint64_t two = run(def, 3);
+  // The scene's own method, then xpbd (its grid sweeps) in both precisions.
+  for (Precision precision : {Precision::f64, Precision::f32}) {
+    for (bool xpbd : {false, true}) {
+      if (!xpbd && precision == Precision::f32) continue;
+      SceneDef d = def;
+      if (xpbd) d.solver.method = Method::xpbd;
+      d.solver.precision = precision;
+      omp_set_num_threads(1);
+      const uint64_t one = run(d, 3);
+      omp_set_num_threads(2);
+      const uint64_t two = run(d, 3);
+      EXPECT_EQ(one, two) << to_string(d.solver.method) << " " << to_string(precision);
+    }
+  }
   omp_set_num_threads(before);
-  EXPECT_EQ(one, two);
 #endif
 }
 

@@ -95,8 +95,16 @@ enum class Method : uint8_t {
 inline constexpr Method kAllMethods[] = {Method::symplectic, Method::implicit, Method::xpbd,
                                          Method::fast};
 
+/// The floating-point type a solver keeps the cloth in while it steps.
+enum class Precision : uint8_t {
+  f64,  ///< "double": every method; round-off ~1e-16 relative
+  f32   ///< "single": xpbd only; half the memory traffic and twice the vector width, ~2× faster
+        ///< on large cloth, round-off ~1e-7 relative (0.2 µm on a 2 m cloth)
+};
+
 struct SolverDef {
   Method method = Method::symplectic;
+  Precision precision = Precision::f64;
   double dt = 1.0 / 60.0;    ///< s, one frame, in [1e-6, 0.1]
   int substeps = 0;          ///< per frame; 0 = automatic (the stable minimum)
   double safety = 0.9;       ///< fraction of the stability bound used by automatic substeps
@@ -127,6 +135,7 @@ const char* to_string(Method m);
 std::optional<Method> method_from_string(const std::string& name);
 /// Every method's name, for messages: "symplectic, implicit, ... or fast".
 std::string method_names();
+const char* to_string(Precision p);
 const char* to_string(WindModel m);
 const char* to_string(ColliderType t);
 const char* to_string(Orientation o);

@@ -30,7 +30,8 @@ namespace {
 struct BenchOptions {
   std::vector<std::string> scenes{"hang", "hang-lr", "drape"};
   std::vector<int> sizes{32, 64, 128, 256};
-  std::vector<std::string> methods;  // empty: all
+  std::vector<std::string> methods;                         // empty: all
+  std::vector<std::string> precisions{"double", "single"};  // single: for xpbd only
   std::vector<int> threads{1, 2};
   int frames = 300;
   double max_updates = 3e10;  // skip runs estimated above this (about five minutes)
@@ -52,8 +53,13 @@ constexpr double kMaxStrain = 0.01;       // structural strain, max over the las
 constexpr double kMaxPenetration = 0.01;  // fraction of the sphere's radius
 constexpr int kLastSecondFrames = 60;
 
+// A method in a precision; single precision is xpbd's alone.
+struct Variant {
+  std::string method, precision;
+};
+
 struct Row {
-  std::string scene, method, status = "ok";
+  std::string scene, method, precision, status = "ok";
   int n = 0, threads = 0, substeps = 0;
   int64_t particles = 0, frames = 0;
   double setup_ms = 0, ms_median = 0, ms_p10 = 0, ms_p90 = 0, rate = 0;
@@ -84,12 +90,13 @@ bool rests_on(const Simulation& sim, const Collider& sphere) {
 }
 
 // One run; `substeps` 0 leaves the count to the method.
-Row bench_one(const BenchOptions& o, const std::string& scene, int n, const std::string& method,
-              int threads, int substeps) {
+Row bench_one(const BenchOptions& o, const std::string& scene, int n, const Variant& v, int threads,
+              int substeps) {
   Row row;
   row.scene = scene;
   row.n = n;
-  row.method = method;
+  row.method = v.method;
+  row.precision = v.precision;
   row.threads = threads;
 #ifdef _OPENMP
   omp_set_num_threads(threads);
@@ -98,7 +105,7 @@ Row bench_one(const BenchOptions& o, const std::string& scene, int n, const std:
   const std::string file = data_dir("bench") + "/scenes/" + (long_range ? "hang" : scene) + ".json";
   std::vector<std::string> sets = {
       "cloth.resolution=[" + std::to_string(n) + "," + std::to_string(n) + "]",
-      "solver.method=" + method};
+      "solver.method=" + v.method, "solver.precision=" + v.precision};
   if (long_range) sets.push_back("cloth.long_range=true");
   if (substeps > 0) sets.push_back("solver.substeps=" + std::to_string(substeps));
   std::optional<Simulation> sim;
@@ -149,15 +156,15 @@ Row bench_one(const BenchOptions& o, const std::string& scene, int n, const std:
 // The run to report: for a searched method, the fewest substeps on the ladder that meet the bar
 // (found once per scene and size, on the first thread count, and reused: the results are the
 // same for any thread count); otherwise the method's own count.
-Row bench_best(const BenchOptions& o, const std::string& scene, int n, const std::string& method,
+Row bench_best(const BenchOptions& o, const std::string& scene, int n, const Variant& v,
                int threads, int& found) {
-  if (!o.search || !searchable(method)) return bench_one(o, scene, n, method, threads, 0);
-  if (found > 0) return bench_one(o, scene, n, method, threads, found);
+  if (!o.search || !searchable(v.method)) return bench_one(o, scene, n, v, threads, 0);
+  if (found > 0) return bench_one(o, scene, n, v, threads, found);
   Row row;
   int tries = 0;
   for (int substeps : kSubstepLadder) {
     if (interrupt_signal()) break;
-    Row r = bench_one(o, scene, n, method, threads, substeps);
+    Row r = bench_one(o, scene, n, v, threads, substeps);
     ++tries;
     if (r.status.rfind("skipped", 0) == 0 && tries > 1) break;  // past the work budget
     row = r;
@@ -169,22 +176,23 @@ Row bench_best(const BenchOptions& o, const std::string& scene, int n, const std
 }
 
 void print_table(const std::vector<Row>& rows) {
-  std::printf("%-8s %5s %-11s %3s %8s %10s %9s %12s %8s %8s %8s %8s %s\n", "scene", "N", "method",
-              "thr", "substeps", "ms/frame", "p10-p90", "part·sub/s", "strain1s", "strain", "p99",
-              "penetr.", "quality");
+  std::printf("%-8s %5s %-11s %-6s %3s %8s %10s %9s %12s %8s %8s %8s %8s %s\n", "scene", "N",
+              "method", "prec", "thr", "substeps", "ms/frame", "p10-p90", "part·sub/s", "strain1s",
+              "strain", "p99", "penetr.", "quality");
   for (const Row& r : rows) {
     if (r.status.rfind("skipped", 0) == 0) {
-      std::printf("%-8s %5d %-11s %3d  %s\n", r.scene.c_str(), r.n, r.method.c_str(), r.threads,
-                  r.status.c_str());
+      std::printf("%-8s %5d %-11s %-6s %3d  %s\n", r.scene.c_str(), r.n, r.method.c_str(),
+                  r.precision.c_str(), r.threads, r.status.c_str());
       continue;
     }
     char spread[32];
     std::snprintf(spread, sizeof spread, "%.2f-%.2f", r.ms_p10, r.ms_p90);
-    std::printf("%-8s %5d %-11s %3d %8d %10.3f %9s %12.3g %7.2f%% %7.2f%% %7.2f%% %7.2f%% %s\n",
-                r.scene.c_str(), r.n, r.method.c_str(), r.threads, r.substeps, r.ms_median, spread,
-                r.rate, 100 * r.strain_last_second, 100 * r.strain_last, 100 * r.strain_p99,
-                100 * r.penetration,
-                r.quality ? "yes" : (r.status == "ok" ? "no" : r.status.c_str()));
+    std::printf(
+        "%-8s %5d %-11s %-6s %3d %8d %10.3f %9s %12.3g %7.2f%% %7.2f%% %7.2f%% %7.2f%% %s\n",
+        r.scene.c_str(), r.n, r.method.c_str(), r.precision.c_str(), r.threads, r.substeps,
+        r.ms_median, spread, r.rate, 100 * r.strain_last_second, 100 * r.strain_last,
+        100 * r.strain_p99, 100 * r.penetration,
+        r.quality ? "yes" : (r.status == "ok" ? "no" : r.status.c_str()));
   }
 }
 
@@ -192,6 +200,7 @@ nlohmann::json to_json(const Row& r) {
   return {{"scene", r.scene},
           {"n", r.n},
           {"method", r.method},
+          {"precision", r.precision},
           {"threads", r.threads},
           {"status", r.status},
           {"particles", r.particles},
@@ -241,6 +250,25 @@ int bench(BenchOptions o) {
       return kExitBadInput;
     }
   }
+  for (const std::string& p : o.precisions) {
+    if (p != to_string(Precision::f64) && p != to_string(Precision::f32)) {
+      std::fprintf(stderr,
+                   "drape: error: --precision: unknown precision \"%s\"; expected %s or %s\n",
+                   p.c_str(), to_string(Precision::f64), to_string(Precision::f32));
+      return kExitBadInput;
+    }
+  }
+  std::vector<Variant> variants;
+  for (const std::string& m : o.methods)
+    for (const std::string& p : o.precisions)
+      if (p == to_string(Precision::f64) || m == to_string(Method::xpbd))
+        variants.push_back({m, p});
+  if (variants.empty()) {
+    std::fprintf(stderr,
+                 "drape: error: --precision: only xpbd runs in single precision; add double or "
+                 "xpbd to --methods\n");
+    return kExitBadInput;
+  }
   for (const std::string& s : o.scenes) {
     if (s != "hang" && s != "hang-lr" && s != "drape") {
       std::fprintf(stderr,
@@ -253,19 +281,19 @@ int bench(BenchOptions o) {
   install_interrupt_handlers();
   std::vector<Row> rows;
   const int64_t total =
-      static_cast<int64_t>(o.scenes.size() * o.sizes.size() * o.methods.size() * o.threads.size());
+      static_cast<int64_t>(o.scenes.size() * o.sizes.size() * variants.size() * o.threads.size());
   Progress bar("bench", total, true);
   for (const std::string& scene : o.scenes)
     for (int n : o.sizes)
-      for (const std::string& method : o.methods) {
+      for (const Variant& v : variants) {
         int found = 0;
         for (int t : o.threads) {
           if (interrupt_signal()) break;
           bar.update(static_cast<int64_t>(rows.size()),
-                     scene + "-" + std::to_string(n) + " " + method + " " + std::to_string(t) +
-                         " thread(s)" +
-                         (found == 0 && searchable(method) ? ", finding substeps" : ""));
-          rows.push_back(bench_best(o, scene, n, method, t, found));
+                     scene + "-" + std::to_string(n) + " " + v.method + " (" + v.precision + ") " +
+                         std::to_string(t) + " thread(s)" +
+                         (found == 0 && searchable(v.method) ? ", finding substeps" : ""));
+          rows.push_back(bench_best(o, scene, n, v, t, found));
         }
       }
   bar.finish();
@@ -294,6 +322,9 @@ std::function<int()> add_bench_command(CLI::App& app) {
       ->delimiter(',')
       ->check(CLI::Range(2, 4096));
   cmd->add_option("--methods", o->methods, "Methods (default: all)")->delimiter(',');
+  cmd->add_option("--precision", o->precisions,
+                  "Precisions: double, single (single runs xpbd only; default: both)")
+      ->delimiter(',');
   cmd->add_option("--threads", o->threads, "Thread counts")
       ->delimiter(',')
       ->check(CLI::Range(1, 256));

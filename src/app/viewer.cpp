@@ -414,9 +414,18 @@ void Viewer::draw_panel() {
       for (Method m : kAllMethods)
         if (ImGui::Selectable(to_string(m), m == edit_.solver.method)) {
           edit_.solver.method = m;
+          // Single precision is xpbd's alone; another method goes back to double.
+          if (m != Method::xpbd) edit_.solver.precision = Precision::f64;
           live = true;
         }
       ImGui::EndCombo();
+    }
+    if (edit_.solver.method == Method::xpbd) {
+      bool single = edit_.solver.precision == Precision::f32;
+      if (ImGui::Checkbox("single precision (faster)", &single)) {
+        edit_.solver.precision = single ? Precision::f32 : Precision::f64;
+        live = true;
+      }
     }
     double dt_ms = 1000.0 * edit_.solver.dt;
     if (slider("frame dt (ms)", dt_ms, 1.0, 50.0, "%.2f")) {

@@ -16,24 +16,25 @@ namespace drape {
 ///   Δ = (x_j − x_prev,j) − (x_i − x_prev,i),  x_j += wj·(Δλ/|d|)·d,  x_i −= wi·(Δλ/|d|)·d.
 /// Unilateral constraints act only when stretched; undamped ones read no x_prev (q).
 /// Returns Δλ.
-template <bool kUnilateral, bool kDamped>
-inline double xpbd_project(double* __restrict px, double* __restrict py, double* __restrict pz,
-                           const double* __restrict qx, const double* __restrict qy,
-                           const double* __restrict qz, const double* __restrict w, int i, int j,
-                           double rest, double alpha_tilde, double gamma, double lambda) {
-  const double dx = px[j] - px[i], dy = py[j] - py[i], dz = pz[j] - pz[i];
-  const double len2 = dx * dx + dy * dy + dz * dz;
-  const double len = std::sqrt(len2);
-  double d_dot = 0.0;
+/// Real is double or float (the solver's storage); the arithmetic is done in it.
+template <bool kUnilateral, bool kDamped, typename Real>
+inline Real xpbd_project(Real* __restrict px, Real* __restrict py, Real* __restrict pz,
+                         const Real* __restrict qx, const Real* __restrict qy,
+                         const Real* __restrict qz, const Real* __restrict w, int i, int j,
+                         Real rest, Real alpha_tilde, Real gamma, Real lambda) {
+  const Real dx = px[j] - px[i], dy = py[j] - py[i], dz = pz[j] - pz[i];
+  const Real len2 = dx * dx + dy * dy + dz * dz;
+  const Real len = std::sqrt(len2);
+  Real d_dot = 0;
   if constexpr (kDamped)
     d_dot = dx * ((px[j] - qx[j]) - (px[i] - qx[i])) + dy * ((py[j] - qy[j]) - (py[i] - qy[i])) +
             dz * ((pz[j] - qz[j]) - (pz[i] - qz[i]));
-  const double wi = w[i], wj = w[j];
-  const double numerator = -(len2 - rest * len) - alpha_tilde * lambda * len - gamma * d_dot;
-  const double denominator = ((1.0 + gamma) * (wi + wj) + alpha_tilde) * len2;
+  const Real wi = w[i], wj = w[j];
+  const Real numerator = -(len2 - rest * len) - alpha_tilde * lambda * len - gamma * d_dot;
+  const Real denominator = ((1 + gamma) * (wi + wj) + alpha_tilde) * len2;
   // Nothing to do for coincident ends (no direction), or two fixed ends of a hard constraint.
-  double s = denominator > 0.0 ? numerator / denominator : 0.0;
-  if constexpr (kUnilateral) s = len > rest ? s : 0.0;
+  Real s = denominator > 0 ? numerator / denominator : Real(0);
+  if constexpr (kUnilateral) s = len > rest ? s : Real(0);
   px[i] -= wi * s * dx;
   py[i] -= wi * s * dy;
   pz[i] -= wi * s * dz;

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cmath>
+#include <limits>
 #include <vector>
 
 #include "drape/cloth.h"
@@ -79,11 +80,12 @@ double wind_power(const ClothModel& model, const ClothState& state, const WindDe
                   std::vector<double>& scratch);
 
 /// The factor the semi-implicit drag scales a velocity u by: 1/(1 + k·|u|) with
-/// k = dt·(ρA/m). A speed whose norm overflows is left alone for the divergence check to see:
-/// dividing by an infinite norm would quietly zero it.
-inline double drag_factor(double k, double ux, double uy, double uz) {
-  const double speed = std::sqrt(ux * ux + uy * uy + uz * uz);
-  return speed <= 1e300 ? 1.0 / (1.0 + k * speed) : 1.0;
+/// k = dt·(ρA/m), in double or float. A speed near overflow is left alone for the divergence
+/// check to see: dividing by an infinite norm would quietly zero it.
+template <typename Real>
+inline Real drag_factor(Real k, Real ux, Real uy, Real uz) {
+  const Real speed = std::sqrt(ux * ux + uy * uy + uz * uz);
+  return speed <= Real(1e-8) * std::numeric_limits<Real>::max() ? 1 / (1 + k * speed) : Real(1);
 }
 
 /// The seed's quadratic drag dv = −(ρA/m)|v|v dt, taken semi-implicitly:

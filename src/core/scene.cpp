@@ -35,6 +35,9 @@ std::string method_names() {
   return out;
 }
 
+const char* to_string(Precision p) {
+  return p == Precision::f64 ? "double" : "single";
+}
 const char* to_string(WindModel m) {
   return m == WindModel::seed ? "seed" : "aero";
 }
@@ -151,6 +154,9 @@ void check(const SceneDef& def) {
 
   const SolverDef& s = def.solver;
   range(s.dt, 1e-6, 0.1, "solver.dt");
+  require(s.precision == Precision::f64 || s.method == Method::xpbd, "solver.precision",
+          std::string("\"single\" is implemented by the xpbd method only, not by ") +
+              to_string(s.method) + "; use \"double\" or solver.method \"xpbd\"");
   require(s.substeps >= 0 && s.substeps <= 1'000'000, "solver.substeps",
           "is " + std::to_string(s.substeps) + ", must be in [0, 1000000] (0 = automatic)");
   range(s.safety, 0.0, 1.0, "solver.safety", true);

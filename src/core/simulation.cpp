@@ -15,7 +15,7 @@ Simulation::Simulation(const SceneDef& def) : def_(def) {
   model_ = build_grid(def_.cloth);
   state_ = initial_state(def_.cloth, model_);
   colliders_ = make_colliders(def_.colliders);
-  solver_ = make_solver(def_.solver.method);
+  solver_ = make_solver(def_.solver);
   scratch_.reserve(model_.size());
   prepare_solver();
   rebase_energy();
@@ -167,7 +167,8 @@ bool Simulation::reconfigure(const SceneDef& def) {
   }
   if (grabbed_ >= 0) grabbed_inv_mass_ = 1.0 / m;
   colliders_ = make_colliders(def_.colliders);
-  if (def.solver.method != old.solver.method) solver_ = make_solver(def_.solver.method);
+  if (def.solver.method != old.solver.method || def.solver.precision != old.solver.precision)
+    solver_ = make_solver(def_.solver);
   try {
     prepare_solver();
   } catch (const InputError&) {

@@ -6,11 +6,11 @@
 
 namespace drape {
 
-std::unique_ptr<Solver> make_solver(Method method) {
-  switch (method) {
+std::unique_ptr<Solver> make_solver(const SolverDef& def) {
+  switch (def.method) {
     case Method::symplectic: return make_symplectic();
     case Method::implicit: return make_implicit();
-    case Method::xpbd: return make_xpbd();
+    case Method::xpbd: return make_xpbd(def.precision);
     case Method::fast: return make_fast();
   }
   return nullptr;

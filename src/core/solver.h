@@ -5,8 +5,8 @@
 #include <memory>
 #include <vector>
 
-#include "drape/collider.h"
 #include "drape/cloth.h"
+#include "drape/collider.h"
 #include "drape/scene.h"
 
 namespace drape {
@@ -17,7 +17,7 @@ struct World {
   ClothState& state;
   const ForcesDef& forces;
   const std::vector<Collider>& colliders;
-  double time = 0.0;  ///< s, at the start of the frame
+  double time = 0.0;          ///< s, at the start of the frame
   LongRangeDef long_range{};  ///< long-range attachments to apply (cloth.long_range)
 };
 
@@ -38,7 +38,7 @@ class Solver {
   virtual bool stretch_is_energy() const { return false; }
 };
 
-std::unique_ptr<Solver> make_solver(Method method);
+std::unique_ptr<Solver> make_solver(const SolverDef& def);
 
 class LongRange;
 /// The end of a velocity-level substep shared by `symplectic` and `implicit`: drag
@@ -47,7 +47,7 @@ class LongRange;
 void drag_drift_constrain(World& world, const LongRange& attachments, double h);
 std::unique_ptr<Solver> make_symplectic();
 std::unique_ptr<Solver> make_implicit();
-std::unique_ptr<Solver> make_xpbd();
+std::unique_ptr<Solver> make_xpbd(Precision precision);
 std::unique_ptr<Solver> make_fast();
 
 /// The largest explicit step h with h²ω² + 2hγ < 4, where ω² = max_i Σ_s 2k_s/m_i and

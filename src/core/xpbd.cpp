@@ -31,8 +31,9 @@ namespace {
 constexpr int kDefaultIterations = 1;
 
 /// Positions (or any 3-vector field) as three arrays.
+template <typename Real>
 struct Soa {
-  std::vector<double> x, y, z;
+  std::vector<Real> x, y, z;
   void resize(size_t n) {
     x.assign(n, 0.0);
     y.assign(n, 0.0);
@@ -70,6 +71,7 @@ struct Family {
   double rest = 0.0, stiffness = 0.0, damping = 0.0;
 };
 
+template <typename Real>
 class GridXpbd final : public Solver {
  public:
   void prepare(const World& w, const SolverDef& def) override {
@@ -94,7 +96,8 @@ class GridXpbd final : public Solver {
     for (size_t k = 0; k < pins.size(); ++k) {
       pin_slot_[k] = grid_.slot(pins[k]);
       for (int32_t i = 0; i < n; ++i)
-        attachment_limit_[k * slots + grid_.slot(i)] = attachments_.limit(m, i, pins[k]);
+        attachment_limit_[k * slots + grid_.slot(i)] =
+            static_cast<Real>(attachments_.limit(m, i, pins[k]));
     }
     if (def.substeps > 0) {
       substeps_ = def.substeps;
@@ -126,16 +129,16 @@ class GridXpbd final : public Solver {
       for (int32_t i = 0; i < n; ++i) {
         const int32_t p = grid_.slot(i);
         const Vec3 a = wind ? Vec3(g + s.inv_mass[i] * scratch_[i]) : g;
-        accel_.x[p] = a.x();
-        accel_.y[p] = a.y();
-        accel_.z[p] = a.z();
-        x_.x[p] = s.x[i].x();
-        x_.y[p] = s.x[i].y();
-        x_.z[p] = s.x[i].z();
-        v_.x[p] = s.v[i].x();
-        v_.y[p] = s.v[i].y();
-        v_.z[p] = s.v[i].z();
-        inv_mass_[p] = s.inv_mass[i];
+        accel_.x[p] = static_cast<Real>(a.x());
+        accel_.y[p] = static_cast<Real>(a.y());
+        accel_.z[p] = static_cast<Real>(a.z());
+        x_.x[p] = static_cast<Real>(s.x[i].x());
+        x_.y[p] = static_cast<Real>(s.x[i].y());
+        x_.z[p] = static_cast<Real>(s.x[i].z());
+        v_.x[p] = static_cast<Real>(s.v[i].x());
+        v_.y[p] = static_cast<Real>(s.v[i].y());
+        v_.z[p] = static_cast<Real>(s.v[i].z());
+        inv_mass_[p] = static_cast<Real>(s.inv_mass[i]);
       }
       for (int k = 0; k < substeps_; ++k) {
         predict(h, drag);
@@ -145,6 +148,9 @@ class GridXpbd final : public Solver {
       }
 #pragma omp for schedule(static)
       for (int32_t i = 0; i < n; ++i) {
+        // Pinned and held particles did not move: keeping their positions as they are keeps
+        // them exact in single precision too.
+        if (s.inv_mass[i] == 0.0) continue;
         const int32_t p = grid_.slot(i);
         s.x[i] = Vec3(x_.x[p], x_.y[p], x_.z[p]);
         s.v[i] = Vec3(v_.x[p], v_.y[p], v_.z[p]);
@@ -223,24 +229,24 @@ class GridXpbd final : public Solver {
   // ---- The substep (all called inside one parallel region) -----------------------------------
 
   // v += h·a, semi-implicit drag, x_prev = x, x += h·v. Pinned and held particles stay put.
-  void predict(double h, double air_drag) {
+  void predict(Real h, Real air_drag) {
     const int32_t n = grid_.size();
-    double* __restrict px = x_.x.data(), * __restrict py = x_.y.data(), * __restrict pz = x_.z.data();
-    double *__restrict qx = x_prev_.x.data(), *__restrict qy = x_prev_.y.data(),
+    Real* __restrict px = x_.x.data(), * __restrict py = x_.y.data(), * __restrict pz = x_.z.data();
+    Real *__restrict qx = x_prev_.x.data(), *__restrict qy = x_prev_.y.data(),
                        *__restrict qz = x_prev_.z.data();
-    double* __restrict vx = v_.x.data(), * __restrict vy = v_.y.data(), * __restrict vz = v_.z.data();
-    const double *__restrict ax = accel_.x.data(), *__restrict ay = accel_.y.data(),
+    Real* __restrict vx = v_.x.data(), * __restrict vy = v_.y.data(), * __restrict vz = v_.z.data();
+    const Real *__restrict ax = accel_.x.data(), *__restrict ay = accel_.y.data(),
                              *__restrict az = accel_.z.data();
-    const double* __restrict w = inv_mass_.data();
+    const Real* __restrict w = inv_mass_.data();
 #pragma omp for simd schedule(static)
     for (int32_t i = 0; i < n; ++i) {
       qx[i] = px[i];
       qy[i] = py[i];
       qz[i] = pz[i];
       // Branch-free so the loop vectorises: `free` is 1 for a free particle, 0 otherwise.
-      const double free = w[i] > 0.0 ? 1.0 : 0.0, hf = h * free;
-      const double ux = vx[i] + hf * ax[i], uy = vy[i] + hf * ay[i], uz = vz[i] + hf * az[i];
-      const double f = forces::drag_factor(air_drag * w[i] * h, ux, uy, uz);
+      const Real free = w[i] > Real(0) ? Real(1) : Real(0), hf = h * free;
+      const Real ux = vx[i] + hf * ax[i], uy = vy[i] + hf * ay[i], uz = vz[i] + hf * az[i];
+      const Real f = forces::drag_factor(air_drag * w[i] * h, ux, uy, uz);
       vx[i] = f * ux;
       vy[i] = f * uy;
       vz[i] = f * uz;
@@ -251,18 +257,18 @@ class GridXpbd final : public Solver {
   }
 
   // One Gauss–Seidel sweep over every fine spring, family by family and colour by colour.
-  void project_springs(double h, int iteration) {
+  void project_springs(Real h, int iteration) {
     for (size_t k = 0; k < families_.size(); ++k) {
       const Family& f = families_[k];
       if (f.stiffness <= 0.0) continue;  // infinite compliance: no constraint
-      const double alpha_tilde = 1.0 / (f.stiffness * h * h);
+      const Real alpha_tilde = 1.0 / (f.stiffness * h * h);
       // β = c (N·s/m): γ = α̃·β·h²/h = c/(k·h) (Macklin et al. 2016, eq. 26).
-      const double gamma = f.damping / (f.stiffness * h);
+      const Real gamma = f.damping / (f.stiffness * h);
       for (int colour = 0; colour < 2; ++colour) {
         if (lambda_.empty()) {
           sweep_family<false>(f, colour, alpha_tilde, gamma, nullptr, true);
         } else {
-          double* lambda = lambda_.data() + k * grid_.size();
+          Real* lambda = lambda_.data() + k * grid_.size();
           sweep_family<true>(f, colour, alpha_tilde, gamma, lambda, iteration == 0);
         }
       }
@@ -273,21 +279,22 @@ class GridXpbd final : public Solver {
   // or odd; for dr = 0 the springs whose first column c has (c / dc) even or odd, which for
   // dc ≤ 2 depends on c mod 4 alone. Springs are indexed for λ by their first particle's slot.
   template <bool kLambda>
-  void sweep_family(const Family& f, int colour, double alpha_tilde, double gamma,
-                    double* __restrict lambda, bool first) {
-    double* __restrict px = x_.x.data(), * __restrict py = x_.y.data(), * __restrict pz = x_.z.data();
-    const double *__restrict qx = x_prev_.x.data(), *__restrict qy = x_prev_.y.data(),
+  void sweep_family(const Family& f, int colour, Real alpha_tilde, Real gamma,
+                    Real* __restrict lambda, bool first) {
+    Real* __restrict px = x_.x.data(), * __restrict py = x_.y.data(), * __restrict pz = x_.z.data();
+    const Real *__restrict qx = x_prev_.x.data(), *__restrict qy = x_prev_.y.data(),
                              *__restrict qz = x_prev_.z.data();
-    const double* __restrict w = inv_mass_.data();
-    const double rest = f.rest;
+    const Real* __restrict w = inv_mass_.data();
+    const Real rest = f.rest;
     // λ is kept only when several iterations need it; with one it is 0 at the start.
     auto one = [&](int i, int j) {
       if constexpr (kLambda) {
-        const double l0 = first ? 0.0 : lambda[i];
+        const Real l0 = first ? Real(0) : lambda[i];
         lambda[i] = l0 + xpbd_project<false, true>(px, py, pz, qx, qy, qz, w, i, j, rest,
                                                    alpha_tilde, gamma, l0);
       } else {
-        xpbd_project<false, true>(px, py, pz, qx, qy, qz, w, i, j, rest, alpha_tilde, gamma, 0.0);
+        xpbd_project<false, true>(px, py, pz, qx, qy, qz, w, i, j, rest, alpha_tilde, gamma,
+                                  Real(0));
       }
     };
     // The springs from row r to row r + f.dr whose first column is ≡ b (mod 4): columns
@@ -321,20 +328,20 @@ class GridXpbd final : public Solver {
   // long_range.h, branch-free so it vectorises; the limits are tabulated at set-up).
   void apply_attachments() {
     const int32_t n = grid_.size();
-    double* __restrict px = x_.x.data(), * __restrict py = x_.y.data(), * __restrict pz = x_.z.data();
-    const double* __restrict w = inv_mass_.data();
+    Real* __restrict px = x_.x.data(), * __restrict py = x_.y.data(), * __restrict pz = x_.z.data();
+    const Real* __restrict w = inv_mass_.data();
 #pragma omp for schedule(static)
     for (int r = 0; r < rows_; ++r) {
       for (size_t k = 0; k < pin_slot_.size(); ++k) {
         const int32_t pin = pin_slot_[k];
-        const double ax = px[pin], ay = py[pin], az = pz[pin];
-        const double* __restrict limit = attachment_limit_.data() + k * n;
+        const Real ax = px[pin], ay = py[pin], az = pz[pin];
+        const Real* __restrict limit = attachment_limit_.data() + k * n;
 #pragma omp simd
         for (int i = r * grid_.stride; i < (r + 1) * grid_.stride; ++i) {
-          const double dx = px[i] - ax, dy = py[i] - ay, dz = pz[i] - az;
-          const double len = std::sqrt(dx * dx + dy * dy + dz * dz);
-          const bool pull = w[i] > 0.0 && len > limit[i];
-          const double scale = limit[i] / (pull ? len : 1.0);
+          const Real dx = px[i] - ax, dy = py[i] - ay, dz = pz[i] - az;
+          const Real len = std::sqrt(dx * dx + dy * dy + dz * dz);
+          const bool pull = w[i] > 0 && len > limit[i];
+          const Real scale = limit[i] / (pull ? len : Real(1));
           px[i] = pull ? ax + scale * dx : px[i];
           py[i] = pull ? ay + scale * dy : py[i];
           pz[i] = pull ? az + scale * dz : pz[i];
@@ -345,24 +352,24 @@ class GridXpbd final : public Solver {
 
   // Contacts for the particles near a collider (position-level, with friction), then
   // v = (x − x_prev)/h.
-  void finish_substep(const std::vector<Collider>& colliders, double h) {
-    const double inv_h = 1.0 / h;
+  void finish_substep(const std::vector<Collider>& colliders, Real h) {
+    const Real inv_h = 1 / h;
 #pragma omp for schedule(static)
     for (int r = 0; r < rows_; ++r) {
       const int i0 = r * grid_.stride;
-      const double* __restrict w = inv_mass_.data() + i0;
-      double* __restrict px = x_.x.data() + i0, * __restrict py = x_.y.data() + i0, * __restrict pz = x_.z.data() + i0;
-      const double *__restrict qx = x_prev_.x.data() + i0, *__restrict qy = x_prev_.y.data() + i0,
+      const Real* __restrict w = inv_mass_.data() + i0;
+      Real* __restrict px = x_.x.data() + i0, * __restrict py = x_.y.data() + i0, * __restrict pz = x_.z.data() + i0;
+      const Real *__restrict qx = x_prev_.x.data() + i0, *__restrict qy = x_prev_.y.data() + i0,
                                *__restrict qz = x_prev_.z.data() + i0;
-      double* __restrict vx = v_.x.data() + i0, * __restrict vy = v_.y.data() + i0, * __restrict vz = v_.z.data() + i0;
+      Real* __restrict vx = v_.x.data() + i0, * __restrict vy = v_.y.data() + i0, * __restrict vz = v_.z.data() + i0;
       for (const Collider& col : colliders) {
         for (int c = 0; c < grid_.stride; ++c) {
           if (w[c] == 0.0 || !near(col, px[c], py[c], pz[c])) continue;
           Vec3 x(px[c], py[c], pz[c]);
           resolve_contact_position(col, Vec3(qx[c], qy[c], qz[c]), x);
-          px[c] = x.x();
-          py[c] = x.y();
-          pz[c] = x.z();
+          px[c] = static_cast<Real>(x.x());
+          py[c] = static_cast<Real>(x.y());
+          pz[c] = static_cast<Real>(x.z());
         }
       }
 #pragma omp simd
@@ -387,20 +394,21 @@ class GridXpbd final : public Solver {
   GridLayout grid_;
   int substeps_ = 1;
   int iterations_ = kDefaultIterations;
-  Soa x_, x_prev_, v_, accel_;
-  std::vector<double> inv_mass_;  ///< per slot; zero for pins, held particles and padding
-  std::vector<Vec3> scratch_;     ///< wind forces, AoS as forces.h writes them
+  Soa<Real> x_, x_prev_, v_, accel_;
+  std::vector<Real> inv_mass_;  ///< per slot; zero for pins, held particles and padding
+  std::vector<Vec3> scratch_;   ///< wind forces, AoS as forces.h writes them
   std::vector<Family> families_;
-  std::vector<double> lambda_;  ///< per family and first slot; only with iterations > 1
+  std::vector<Real> lambda_;  ///< per family and first slot; only with iterations > 1
   LongRange attachments_;
-  std::vector<int32_t> pin_slot_;         ///< the attachments' pins, as slots
-  std::vector<double> attachment_limit_;  ///< per pin, per slot, m
+  std::vector<int32_t> pin_slot_;       ///< the attachments' pins, as slots
+  std::vector<Real> attachment_limit_;  ///< per pin, per slot, m
 };
 
 }  // namespace
 
-std::unique_ptr<Solver> make_xpbd() {
-  return std::make_unique<GridXpbd>();
+std::unique_ptr<Solver> make_xpbd(Precision precision) {
+  if (precision == Precision::f32) return std::make_unique<GridXpbd<float>>();
+  return std::make_unique<GridXpbd<double>>();
 }
 
 }  // namespace drape

@@ -325,6 +325,7 @@ SceneDef parse_scene(const json& j, const std::string& source) {
       Reader r(*sj, "solver");
       r.choice("method", def.solver.method,
                std::vector<Method>(std::begin(kAllMethods), std::end(kAllMethods)));
+      r.choice("precision", def.solver.precision, {Precision::f64, Precision::f32});
       r.number("dt", def.solver.dt);
       r.integer("substeps", def.solver.substeps);
       r.number("safety", def.solver.safety);
@@ -449,6 +450,7 @@ json to_json(const SceneDef& d) {
       {"colliders", colliders},
       {"solver",
        {{"method", to_string(d.solver.method)},
+        {"precision", to_string(d.solver.precision)},
         {"dt", d.solver.dt},
         {"substeps", d.solver.substeps},
         {"safety", d.solver.safety},
