@@ -30,17 +30,18 @@ void Springs(benchmark::State& st) {
 BENCHMARK(Springs)->Arg(32)->Arg(128)->Arg(256);
 
 // One colour of XPBD distance projections as the xpbd sweep runs them: the vertical springs of
-// every other row of an N×N grid in structure-of-arrays storage, in double or float.
+// every other row of an N×N grid in structure-of-arrays storage (base positions and moves), in
+// double or float.
 template <typename Real>
 void Projection(benchmark::State& st) {
   const int n = static_cast<int>(st.range(0));
   const Real spacing = Real(2) / static_cast<Real>(n - 1);
-  std::vector<Real> x(n * n), y(n * n), z(n * n, Real(0)), w(n * n, Real(n) * Real(n));
+  std::vector<Real> bx(n * n), by(n * n), bz(n * n, Real(0)), w(n * n, Real(n) * Real(n));
   for (int i = 0; i < n * n; ++i) {
-    x[i] = static_cast<Real>(i % n) * spacing;
-    y[i] = -static_cast<Real>(i / n) * spacing * Real(1.001);  // stretched 0.1%
+    bx[i] = static_cast<Real>(i % n) * spacing;
+    by[i] = -static_cast<Real>(i / n) * spacing * Real(1.001);  // stretched 0.1%
   }
-  const std::vector<Real> qx = x, qy = y, qz = z;
+  std::vector<Real> mx(n * n, Real(0)), my(n * n, Real(0)), mz(n * n, Real(0));
   const Real alpha_tilde = Real(1e-5) * Real(3600 * 400), gamma = Real(1e-5) * Real(60 * 20);
   int64_t springs = 0;
   for (auto _ : st) {
@@ -48,11 +49,11 @@ void Projection(benchmark::State& st) {
       const int i0 = r * n, j0 = i0 + n;
 #pragma omp simd
       for (int c = 0; c < n; ++c)
-        xpbd_project<false, true>(x.data(), y.data(), z.data(), qx.data(), qy.data(), qz.data(),
+        xpbd_project<false, true>(bx.data(), by.data(), bz.data(), mx.data(), my.data(), mz.data(),
                                   w.data(), i0 + c, j0 + c, spacing, alpha_tilde, gamma, Real(0));
       springs += n;
     }
-    benchmark::DoNotOptimize(x.data());
+    benchmark::DoNotOptimize(mx.data());
   }
   st.SetItemsProcessed(springs);
 }

@@ -10,7 +10,10 @@
 // is swept row by row: whatever the direction, a row's springs of one colour are then a few
 // contiguous runs, so the inner loops vectorise without gathers. Rows are split between
 // threads; a colour's springs share no particle, so the result has the same bits for any
-// thread count (and for any order inside a colour, layout included).
+// thread count (and for any order inside a colour, layout included). Each position is held as
+// its base (where the particle stood at the substep's start) plus its move since, so spring
+// vectors and velocities (move/h) keep their own precision rather than that of |x|: in single
+// precision (solver.precision) a step's move stays visible however small it is next to |x|.
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -34,6 +37,7 @@ constexpr int kDefaultIterations = 1;
 template <typename Real>
 struct Soa {
   std::vector<Real> x, y, z;
+  std::vector<Real>& operator[](int d) { return d == 0 ? x : d == 1 ? y : z; }
   void resize(size_t n) {
     x.assign(n, 0.0);
     y.assign(n, 0.0);
@@ -80,8 +84,8 @@ class GridXpbd final : public Solver {
     rows_ = m.rows;
     grid_.prepare(cols_, rows_);
     const int32_t n = m.size(), slots = grid_.size();
-    x_.resize(slots);
-    x_prev_.resize(slots);
+    base_.resize(slots);
+    move_.resize(slots);
     v_.resize(slots);
     accel_.resize(slots);
     inv_mass_.assign(slots, 0.0);  // padding slots stay at zero: they never move
@@ -132,9 +136,7 @@ class GridXpbd final : public Solver {
         accel_.x[p] = static_cast<Real>(a.x());
         accel_.y[p] = static_cast<Real>(a.y());
         accel_.z[p] = static_cast<Real>(a.z());
-        x_.x[p] = static_cast<Real>(s.x[i].x());
-        x_.y[p] = static_cast<Real>(s.x[i].y());
-        x_.z[p] = static_cast<Real>(s.x[i].z());
+        for (int d = 0; d < 3; ++d) split(s.x[i][d], base_[d][p], move_[d][p]);
         v_.x[p] = static_cast<Real>(s.v[i].x());
         v_.y[p] = static_cast<Real>(s.v[i].y());
         v_.z[p] = static_cast<Real>(s.v[i].z());
@@ -152,7 +154,7 @@ class GridXpbd final : public Solver {
         // them exact in single precision too.
         if (s.inv_mass[i] == 0.0) continue;
         const int32_t p = grid_.slot(i);
-        s.x[i] = Vec3(x_.x[p], x_.y[p], x_.z[p]);
+        s.x[i] = position(p);
         s.v[i] = Vec3(v_.x[p], v_.y[p], v_.z[p]);
       }
     }
@@ -228,21 +230,40 @@ class GridXpbd final : public Solver {
 
   // ---- The substep (all called inside one parallel region) -----------------------------------
 
-  // v += h·a, semi-implicit drag, x_prev = x, x += h·v. Pinned and held particles stay put.
+  // The position x = b + m as a base b (where the particle stands at the substep's start) and
+  // its move m since, both in Real. Splitting a double this way keeps it to about ε² relative.
+  static void split(double x, Real& b, Real& m) {
+    b = static_cast<Real>(x);
+    m = static_cast<Real>(x - static_cast<double>(b));
+  }
+  Vec3 position(int32_t p) const {
+    return Vec3(double(base_.x[p]) + double(move_.x[p]), double(base_.y[p]) + double(move_.y[p]),
+                double(base_.z[p]) + double(move_.z[p]));
+  }
+
+  // The new base is b + m rounded, and the rounding (Knuth's two-sum, exact) starts the new
+  // move, so no position is lost to round-off however small the step; then v += h·a,
+  // semi-implicit drag, m += h·v. Pinned and held particles stay put.
   void predict(Real h, Real air_drag) {
     const int32_t n = grid_.size();
-    Real* __restrict px = x_.x.data(), * __restrict py = x_.y.data(), * __restrict pz = x_.z.data();
-    Real *__restrict qx = x_prev_.x.data(), *__restrict qy = x_prev_.y.data(),
-                       *__restrict qz = x_prev_.z.data();
+    Real *__restrict bx = base_.x.data(), *__restrict by = base_.y.data(),
+                     *__restrict bz = base_.z.data();
+    Real *__restrict mx = move_.x.data(), *__restrict my = move_.y.data(),
+                     *__restrict mz = move_.z.data();
     Real* __restrict vx = v_.x.data(), * __restrict vy = v_.y.data(), * __restrict vz = v_.z.data();
     const Real *__restrict ax = accel_.x.data(), *__restrict ay = accel_.y.data(),
-                             *__restrict az = accel_.z.data();
+                           *__restrict az = accel_.z.data();
     const Real* __restrict w = inv_mass_.data();
+    auto rebase = [](Real& b, Real& m) {
+      const Real sum = b + m, m_part = sum - b;
+      m = (b - (sum - m_part)) + (m - m_part);
+      b = sum;
+    };
 #pragma omp for simd schedule(static)
     for (int32_t i = 0; i < n; ++i) {
-      qx[i] = px[i];
-      qy[i] = py[i];
-      qz[i] = pz[i];
+      rebase(bx[i], mx[i]);
+      rebase(by[i], my[i]);
+      rebase(bz[i], mz[i]);
       // Branch-free so the loop vectorises: `free` is 1 for a free particle, 0 otherwise.
       const Real free = w[i] > Real(0) ? Real(1) : Real(0), hf = h * free;
       const Real ux = vx[i] + hf * ax[i], uy = vy[i] + hf * ay[i], uz = vz[i] + hf * az[i];
@@ -250,9 +271,9 @@ class GridXpbd final : public Solver {
       vx[i] = f * ux;
       vy[i] = f * uy;
       vz[i] = f * uz;
-      px[i] += hf * vx[i];
-      py[i] += hf * vy[i];
-      pz[i] += hf * vz[i];
+      mx[i] += hf * vx[i];
+      my[i] += hf * vy[i];
+      mz[i] += hf * vz[i];
     }
   }
 
@@ -281,19 +302,20 @@ class GridXpbd final : public Solver {
   template <bool kLambda>
   void sweep_family(const Family& f, int colour, Real alpha_tilde, Real gamma,
                     Real* __restrict lambda, bool first) {
-    Real* __restrict px = x_.x.data(), * __restrict py = x_.y.data(), * __restrict pz = x_.z.data();
-    const Real *__restrict qx = x_prev_.x.data(), *__restrict qy = x_prev_.y.data(),
-                             *__restrict qz = x_prev_.z.data();
+    const Real *__restrict bx = base_.x.data(), *__restrict by = base_.y.data(),
+                           *__restrict bz = base_.z.data();
+    Real *__restrict mx = move_.x.data(), *__restrict my = move_.y.data(),
+                     *__restrict mz = move_.z.data();
     const Real* __restrict w = inv_mass_.data();
     const Real rest = f.rest;
     // λ is kept only when several iterations need it; with one it is 0 at the start.
     auto one = [&](int i, int j) {
       if constexpr (kLambda) {
         const Real l0 = first ? Real(0) : lambda[i];
-        lambda[i] = l0 + xpbd_project<false, true>(px, py, pz, qx, qy, qz, w, i, j, rest,
+        lambda[i] = l0 + xpbd_project<false, true>(bx, by, bz, mx, my, mz, w, i, j, rest,
                                                    alpha_tilde, gamma, l0);
       } else {
-        xpbd_project<false, true>(px, py, pz, qx, qy, qz, w, i, j, rest, alpha_tilde, gamma,
+        xpbd_project<false, true>(bx, by, bz, mx, my, mz, w, i, j, rest, alpha_tilde, gamma,
                                   Real(0));
       }
     };
@@ -328,62 +350,68 @@ class GridXpbd final : public Solver {
   // long_range.h, branch-free so it vectorises; the limits are tabulated at set-up).
   void apply_attachments() {
     const int32_t n = grid_.size();
-    Real* __restrict px = x_.x.data(), * __restrict py = x_.y.data(), * __restrict pz = x_.z.data();
+    const Real *__restrict bx = base_.x.data(), *__restrict by = base_.y.data(),
+                           *__restrict bz = base_.z.data();
+    Real *__restrict mx = move_.x.data(), *__restrict my = move_.y.data(),
+                     *__restrict mz = move_.z.data();
     const Real* __restrict w = inv_mass_.data();
 #pragma omp for schedule(static)
     for (int r = 0; r < rows_; ++r) {
       for (size_t k = 0; k < pin_slot_.size(); ++k) {
-        const int32_t pin = pin_slot_[k];
-        const Real ax = px[pin], ay = py[pin], az = pz[pin];
+        const int32_t a = pin_slot_[k];
         const Real* __restrict limit = attachment_limit_.data() + k * n;
 #pragma omp simd
         for (int i = r * grid_.stride; i < (r + 1) * grid_.stride; ++i) {
-          const Real dx = px[i] - ax, dy = py[i] - ay, dz = pz[i] - az;
+          // x − x_pin, and x_pin + scale·(x − x_pin) written as a change of the move.
+          const Real dx = (bx[i] - bx[a]) + (mx[i] - mx[a]), dy = (by[i] - by[a]) + (my[i] - my[a]),
+                     dz = (bz[i] - bz[a]) + (mz[i] - mz[a]);
           const Real len = std::sqrt(dx * dx + dy * dy + dz * dz);
           const bool pull = w[i] > 0 && len > limit[i];
-          const Real scale = limit[i] / (pull ? len : Real(1));
-          px[i] = pull ? ax + scale * dx : px[i];
-          py[i] = pull ? ay + scale * dy : py[i];
-          pz[i] = pull ? az + scale * dz : pz[i];
+          const Real shrink = pull ? limit[i] / len - 1 : Real(0);
+          mx[i] += shrink * dx;
+          my[i] += shrink * dy;
+          mz[i] += shrink * dz;
         }
       }
     }
   }
 
-  // Contacts for the particles near a collider (position-level, with friction), then
-  // v = (x − x_prev)/h.
+  // Contacts for the particles near a collider (position-level, with friction; x_prev is the
+  // base), then v = move/h.
   void finish_substep(const std::vector<Collider>& colliders, Real h) {
     const Real inv_h = 1 / h;
 #pragma omp for schedule(static)
     for (int r = 0; r < rows_; ++r) {
       const int i0 = r * grid_.stride;
       const Real* __restrict w = inv_mass_.data() + i0;
-      Real* __restrict px = x_.x.data() + i0, * __restrict py = x_.y.data() + i0, * __restrict pz = x_.z.data() + i0;
-      const Real *__restrict qx = x_prev_.x.data() + i0, *__restrict qy = x_prev_.y.data() + i0,
-                               *__restrict qz = x_prev_.z.data() + i0;
+      const Real *__restrict bx = base_.x.data() + i0, *__restrict by = base_.y.data() + i0,
+                             *__restrict bz = base_.z.data() + i0;
+      Real *__restrict mx = move_.x.data() + i0, *__restrict my = move_.y.data() + i0,
+                       *__restrict mz = move_.z.data() + i0;
       Real* __restrict vx = v_.x.data() + i0, * __restrict vy = v_.y.data() + i0, * __restrict vz = v_.z.data() + i0;
       for (const Collider& col : colliders) {
         for (int c = 0; c < grid_.stride; ++c) {
-          if (w[c] == 0.0 || !near(col, px[c], py[c], pz[c])) continue;
-          Vec3 x(px[c], py[c], pz[c]);
-          resolve_contact_position(col, Vec3(qx[c], qy[c], qz[c]), x);
-          px[c] = static_cast<Real>(x.x());
-          py[c] = static_cast<Real>(x.y());
-          pz[c] = static_cast<Real>(x.z());
+          if (w[c] == 0.0) continue;
+          const Vec3 b(bx[c], by[c], bz[c]);
+          Vec3 x = b + Vec3(mx[c], my[c], mz[c]);
+          if (!near(col, x) || !resolve_contact_position(col, b, x)) continue;
+          mx[c] = static_cast<Real>(x.x() - b.x());
+          my[c] = static_cast<Real>(x.y() - b.y());
+          mz[c] = static_cast<Real>(x.z() - b.z());
         }
       }
 #pragma omp simd
       for (int c = 0; c < grid_.stride; ++c) {
-        vx[c] = (px[c] - qx[c]) * inv_h;
-        vy[c] = (py[c] - qy[c]) * inv_h;
-        vz[c] = (pz[c] - qz[c]) * inv_h;
+        vx[c] = mx[c] * inv_h;
+        vy[c] = my[c] * inv_h;
+        vz[c] = mz[c] * inv_h;
       }
     }
   }
 
   // A cheap test that passes every particle resolve_contact_position would move.
-  static bool near(const Collider& c, double x, double y, double z) {
-    const double dx = x - c.center.x(), dy = y - c.center.y(), dz = z - c.center.z();
+  static bool near(const Collider& c, const Vec3& x) {
+    const double dx = x.x() - c.center.x(), dy = x.y() - c.center.y(), dz = x.z() - c.center.z();
     if (c.type == ColliderType::plane)
       return c.normal.x() * dx + c.normal.y() * dy + c.normal.z() * dz < c.thickness;
     const double reach = c.radius + c.thickness;
@@ -394,9 +422,9 @@ class GridXpbd final : public Solver {
   GridLayout grid_;
   int substeps_ = 1;
   int iterations_ = kDefaultIterations;
-  Soa<Real> x_, x_prev_, v_, accel_;
-  std::vector<Real> inv_mass_;  ///< per slot; zero for pins, held particles and padding
-  std::vector<Vec3> scratch_;   ///< wind forces, AoS as forces.h writes them
+  Soa<Real> base_, move_, v_, accel_;  ///< x = base + move (see split); per slot
+  std::vector<Real> inv_mass_;         ///< per slot; zero for pins, held particles and padding
+  std::vector<Vec3> scratch_;          ///< wind forces, AoS as forces.h writes them
   std::vector<Family> families_;
   std::vector<Real> lambda_;  ///< per family and first slot; only with iterations > 1
   LongRange attachments_;
