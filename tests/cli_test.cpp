@@ -41,6 +41,12 @@ std::string scene(const std::string& name) {
 class Cli : public drape::testing_support::TempDirTest {
  protected:
   Cli() : TempDirTest("drape_cli_") {}
+  // Runs `drape bench` with these options into out and returns its rows (bench.json).
+  json bench_rows(const std::string& options, const std::string& out) const {
+    const Result r = drape("bench " + options + " --out " + out);
+    EXPECT_EQ(r.code, 0) << r.output;
+    return read_json(out + "/bench.json");
+  }
   json read_json(const std::string& file) const {
     std::ifstream in(file);
     return json::parse(in);
@@ -257,12 +263,8 @@ TEST_F(Cli, BenchInterruptedWritesTheRowsSoFarAndExits130) {
 
 TEST_F(Cli, BenchReportsSpeedBesideQuality) {
   const std::string out = path("bench");
-  const Result r = drape(
-      "bench --scenes hang,drape --sizes 12 --methods symplectic --threads 1"
-      " --frames 30 --out " +
-      out);
-  ASSERT_EQ(r.code, 0) << r.output;
-  const json rows = read_json(out + "/bench.json");
+  const json rows = bench_rows(
+      "--scenes hang,drape --sizes 12 --methods symplectic --threads 1 --frames 30", out);
   ASSERT_EQ(rows.size(), 2u);
   for (const json& row : rows) {
     EXPECT_EQ(row["status"], "ok");
@@ -281,12 +283,10 @@ TEST_F(Cli, BenchReportsSpeedBesideQuality) {
 
 TEST_F(Cli, BenchRunsXpbdInBothPrecisionsAndOthersInDouble) {
   const std::string out = path("bench");
-  const Result r = drape(
-      "bench --scenes hang-lr --sizes 12 --methods symplectic,xpbd --threads 1 --no-search"
-      " --frames 10 --out " +
+  const json rows = bench_rows(
+      "--scenes hang-lr --sizes 12 --methods symplectic,xpbd --threads 1"
+      " --no-search --frames 10",
       out);
-  ASSERT_EQ(r.code, 0) << r.output;
-  const json rows = read_json(out + "/bench.json");
   ASSERT_EQ(rows.size(), 3u);
   EXPECT_EQ(rows[0]["method"], "symplectic");
   EXPECT_EQ(rows[0]["precision"], "double");

@@ -133,13 +133,11 @@ class GridXpbd final : public Solver {
       for (int32_t i = 0; i < n; ++i) {
         const int32_t p = grid_.slot(i);
         const Vec3 a = wind ? Vec3(g + s.inv_mass[i] * scratch_[i]) : g;
-        accel_.x[p] = static_cast<Real>(a.x());
-        accel_.y[p] = static_cast<Real>(a.y());
-        accel_.z[p] = static_cast<Real>(a.z());
-        for (int d = 0; d < 3; ++d) split(s.x[i][d], base_[d][p], move_[d][p]);
-        v_.x[p] = static_cast<Real>(s.v[i].x());
-        v_.y[p] = static_cast<Real>(s.v[i].y());
-        v_.z[p] = static_cast<Real>(s.v[i].z());
+        for (int d = 0; d < 3; ++d) {
+          accel_[d][p] = static_cast<Real>(a[d]);
+          v_[d][p] = static_cast<Real>(s.v[i][d]);
+          split(s.x[i][d], base_[d][p], move_[d][p]);
+        }
         inv_mass_[p] = static_cast<Real>(s.inv_mass[i]);
       }
       for (int k = 0; k < substeps_; ++k) {
