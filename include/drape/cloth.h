@@ -72,4 +72,9 @@ ClothState initial_state(const ClothDef& def, const ClothModel& model);
 /// Recomputes state.normal and state.area from state.x.
 void update_normals(const ClothModel& model, ClothState& state);
 
+/// Per particle, the sum of one spring field over the springs that touch it, e.g.
+/// spring_sums(model, &Spring::stiffness): the total stiffness at each particle (stability
+/// bounds and convergence estimates use it).
+std::vector<double> spring_sums(const ClothModel& model, double Spring::*field);
+
 }  // namespace drape

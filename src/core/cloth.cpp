@@ -147,6 +147,15 @@ ClothState initial_state(const ClothDef& def, const ClothModel& model) {
   return s;
 }
 
+std::vector<double> spring_sums(const ClothModel& model, double Spring::*field) {
+  std::vector<double> sum(model.size(), 0.0);
+  for (const Spring& s : model.springs) {
+    sum[s.i] += s.*field;
+    sum[s.j] += s.*field;
+  }
+  return sum;
+}
+
 void update_normals(const ClothModel& model, ClothState& state) {
   const int32_t n = model.size();
   // Gathered per particle (no scatter), so any thread count gives the same bits.

@@ -277,11 +277,7 @@ class Fast final : public Solver {
   // cheap and errs high only by the transverse stiffness it ignores).
   static double estimate_rho(const World& w, double h) {
     const ClothModel& m = w.model;
-    std::vector<double> k_sum(m.size(), 0.0);
-    for (const Spring& s : m.springs) {
-      k_sum[s.i] += s.stiffness;
-      k_sum[s.j] += s.stiffness;
-    }
+    const std::vector<double> k_sum = spring_sums(m, &Spring::stiffness);
     double rho = 0.0;
     for (int32_t i = 0; i < m.size(); ++i) {
       if (w.state.inv_mass[i] == 0.0) continue;

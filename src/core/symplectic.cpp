@@ -15,13 +15,8 @@ namespace drape {
 
 double explicit_step_bound(const ClothModel& model, const std::vector<double>& inv_mass) {
   const int32_t n = model.size();
-  std::vector<double> k_sum(n, 0.0), c_sum(n, 0.0);
-  for (const Spring& s : model.springs) {
-    k_sum[s.i] += s.stiffness;
-    k_sum[s.j] += s.stiffness;
-    c_sum[s.i] += s.damping;
-    c_sum[s.j] += s.damping;
-  }
+  const std::vector<double> k_sum = spring_sums(model, &Spring::stiffness),
+                            c_sum = spring_sums(model, &Spring::damping);
   double omega2 = 0.0, gamma = 0.0;
   for (int32_t i = 0; i < n; ++i) {
     omega2 = std::max(omega2, 2.0 * k_sum[i] * inv_mass[i]);
