@@ -1,5 +1,7 @@
 #include "solver.h"
 
+#include <cstdio>
+
 #include "forces.h"
 #include "long_range.h"
 #include "parallel.h"
@@ -14,6 +16,12 @@ std::unique_ptr<Solver> make_solver(const SolverDef& def) {
     case Method::fast: return make_fast();
   }
   return nullptr;
+}
+
+std::string count_text(double count) {
+  char text[48];
+  std::snprintf(text, sizeof text, "%.0f", count);
+  return text;
 }
 
 void drag_drift_constrain(World& w, const LongRange& attachments, double h) {

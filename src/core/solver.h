@@ -3,6 +3,7 @@
 #pragma once
 
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "drape/cloth.h"
@@ -39,6 +40,10 @@ class Solver {
 };
 
 std::unique_ptr<Solver> make_solver(const SolverDef& def);
+
+/// A whole count held in a double (a substep count a set-up would need, possibly huge or
+/// infinite), written for a message: "10700", "inf".
+std::string count_text(double count);
 
 class LongRange;
 /// The end of a velocity-level substep shared by `symplectic` and `implicit`: drag

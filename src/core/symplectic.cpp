@@ -42,7 +42,7 @@ class Symplectic final : public Solver {
     const double needed = std::ceil(def.dt / h);
     if (!(needed <= def.max_substeps)) {
       throw InputError("solver.substeps",
-                       "the symplectic method needs " + std::to_string(needed) +
+                       "the symplectic method needs " + count_text(needed) +
                            " substeps per frame to stay stable, more than solver.max_substeps = " +
                            std::to_string(def.max_substeps) +
                            "; lower the stiffness or damping, raise the mass, use a smaller dt, "

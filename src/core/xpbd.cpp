@@ -216,7 +216,7 @@ class GridXpbd final : public Solver {
     const double needed = std::ceil(def.dt * std::sqrt(kw));
     if (!(needed <= def.max_substeps)) {
       throw InputError("solver.substeps",
-                       "the xpbd method needs " + std::to_string(needed) +
+                       "the xpbd method needs " + count_text(needed) +
                            " substeps per frame to reach the springs' stiffness, more than "
                            "solver.max_substeps = " +
                            std::to_string(def.max_substeps) +
