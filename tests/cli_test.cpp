@@ -53,6 +53,12 @@ class Cli : public drape::testing_support::TempDirTest {
   }
 };
 
+// The memory a run reported, from its parts.
+double memory_total(const json& j) {
+  return static_cast<double>(j["state_bytes"].get<int64_t>() + j["model_bytes"].get<int64_t>() +
+                             j["workspace_bytes"].get<int64_t>());
+}
+
 TEST_F(Cli, EveryShippedSceneRunsAndWritesItsStats) {
   for (const char* name : {"hang", "wind", "sphere", "ground"}) {
     const std::string stats = path(std::string(name) + ".json");
@@ -63,8 +69,10 @@ TEST_F(Cli, EveryShippedSceneRunsAndWritesItsStats) {
     for (const char* key : {"status", "diverged_frame", "method", "particles", "springs", "frames",
                             "substeps_per_frame", "sim_seconds", "wall_seconds", "setup_ms",
                             "ms_per_frame", "kinetic_energy", "max_strain", "mean_strain",
-                            "max_penetration", "pinned_drift", "finite"})
+                            "max_penetration", "pinned_drift", "finite", "state_bytes",
+                            "model_bytes", "workspace_bytes", "bytes_per_particle"})
       EXPECT_TRUE(s.contains(key)) << name << " lacks " << key;
+    EXPECT_DOUBLE_EQ(s["bytes_per_particle"].get<double>(), memory_total(s) / 1024.0);
     EXPECT_EQ(s["status"], "ok");
     EXPECT_TRUE(s["diverged_frame"].is_null());
     EXPECT_EQ(s["frames"], 30);
@@ -271,6 +279,8 @@ TEST_F(Cli, BenchReportsSpeedBesideQuality) {
     EXPECT_EQ(row["particles"], 144);
     EXPECT_GT(row["ms_per_frame_median"].get<double>(), 0.0);
     EXPECT_TRUE(row.contains("p99_strain"));
+    EXPECT_GT(row["workspace_bytes"].get<int64_t>(), 0);
+    EXPECT_DOUBLE_EQ(row["bytes_per_particle"].get<double>(), memory_total(row) / 144.0);
     // The bar is exactly this: strain within 1% and, on the sphere, no deep contact.
     const bool bar = row["max_strain_last_second"].get<double>() <= 0.01 &&
                      row["max_strain"].get<double>() <= 0.01 &&

@@ -267,7 +267,64 @@ TEST_P(EachMethod, PinsAndTheHandUpdateWhatDependsOnThemAtOnce) {
   EXPECT_EQ(sim.diagnostics().pinned_drift, 0.0);
 }
 
+TEST_P(EachMethod, MemoryReportCoversItsArraysGrowsLinearlyAndStaysUnderTheEstimate) {
+  // What memory() reports must cover the arrays each part is known to hold, grow linearly with
+  // the cloth (fast: its factor's fill grows like n log n on a grid), and stay under the
+  // estimate that budgets are checked against before anything is built, without being far
+  // from it.
+  const Variant v = GetParam();
+  double per_particle[2] = {0, 0};
+  for (int k = 0; k < 2; ++k) {
+    SceneDef def = with(shipped("hang"), v);
+    def.cloth.cols = def.cloth.rows = 32 << k;
+    def.cloth.long_range.enabled = true;
+    Simulation sim(def);
+    ASSERT_TRUE(sim.step()) << sim.divergence();
+    const MemoryUse m = sim.memory();
+    const int64_t n = sim.model().size();
+    const int64_t springs = static_cast<int64_t>(sim.model().springs.size());
+    // Positions, velocities, anchors, normals; inverse masses, areas; pin flags.
+    EXPECT_GE(m.state, n * int64_t{4 * sizeof(Vec3) + 2 * sizeof(double) + 1});
+    EXPECT_GE(m.model, springs * int64_t{sizeof(Spring)} +
+                           static_cast<int64_t>(sim.model().triangles.size() * sizeof(Triangle)) +
+                           n * int64_t{sizeof(Vec2) + sizeof(Vec3) + sizeof(double)});
+    int64_t workspace = 0;  // the arrays the method cannot do without
+    switch (v.method) {
+      case Method::symplectic: workspace = n * int64_t{sizeof(Vec3)}; break;  // forces
+      case Method::implicit:  // seven CG vectors, a 3×3 block per spring
+        workspace = 7 * n * int64_t{sizeof(Vec3)} + springs * int64_t{sizeof(Mat3)};
+        break;
+      case Method::xpbd:  // base, move, velocity, acceleration (3 each), inverse mass
+        workspace = 13 * n * (single(v) ? int64_t{sizeof(float)} : int64_t{sizeof(double)});
+        break;
+      case Method::fast:  // seven iterate vectors, and at least L's diagonal for each unknown
+        workspace = 7 * n * int64_t{sizeof(Vec3)} + n * int64_t{sizeof(double) + sizeof(int)};
+        break;
+    }
+    EXPECT_GE(m.workspace, workspace);
+    EXPECT_LE(m.total(), estimated_memory(def));
+    EXPECT_GE(3 * m.total(), estimated_memory(def));
+    per_particle[k] = static_cast<double>(m.total()) / n;
+  }
+  if (v.method == Method::fast) {
+    EXPECT_LT(per_particle[1], 1.3 * per_particle[0]);
+  } else {
+    EXPECT_NEAR(per_particle[1] / per_particle[0], 1.0, 0.05);
+  }
+}
+
 INSTANTIATE_TEST_SUITE_P(EveryMethod, EachMethod, ::testing::ValuesIn(kVariants), variant_name);
+
+TEST(SinglePrecision, HalvesTheSolverArrays) {
+  SceneDef def = shipped("hang");
+  def.solver.method = Method::xpbd;
+  const int64_t double_bytes = Simulation(def).memory().workspace;
+  def.solver.precision = Precision::f32;
+  const int64_t single_bytes = Simulation(def).memory().workspace;
+  // Everything but the wind's force buffer (kept in double, as forces.h writes it) halves.
+  EXPECT_LT(single_bytes, 0.7 * double_bytes);
+  EXPECT_GT(single_bytes, 0.5 * double_bytes);
+}
 
 // ---- Stability at the frame step with stiff springs -----------------------------------------
 

@@ -72,6 +72,20 @@ ClothState initial_state(const ClothDef& def, const ClothModel& model);
 /// Recomputes state.normal and state.area from state.x.
 void update_normals(const ClothModel& model, ClothState& state);
 
+/// Heap bytes held by vectors (their capacity), for memory reports: heap_bytes(a, b, ...).
+template <typename T>
+int64_t heap_bytes(const std::vector<T>& v) {
+  return static_cast<int64_t>(v.capacity() * sizeof(T));
+}
+template <typename First, typename Second, typename... Rest>
+int64_t heap_bytes(const First& first, const Second& second, const Rest&... rest) {
+  return heap_bytes(first) + heap_bytes(second, rest...);
+}
+/// Heap bytes of the model's arrays (springs, triangles, adjacency, rest shape, masses).
+int64_t heap_bytes(const ClothModel& model);
+/// Heap bytes of the state's arrays.
+int64_t heap_bytes(const ClothState& state);
+
 /// Per particle, the sum of one spring field over the springs that touch it, e.g.
 /// spring_sums(model, &Spring::stiffness): the total stiffness at each particle (stability
 /// bounds and convergence estimates use it).

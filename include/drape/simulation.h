@@ -29,6 +29,19 @@ struct Diagnostics {
   bool finite = true;            ///< every position and velocity is finite
 };
 
+/// Heap memory the simulation holds, in bytes (vectors counted by capacity).
+struct MemoryUse {
+  int64_t state = 0;      ///< positions, velocities, pins, normals, areas
+  int64_t model = 0;      ///< springs, triangles and adjacency, rest shape, masses
+  int64_t workspace = 0;  ///< the solver's arrays and factorisations, and the simulation's own
+  int64_t total() const { return state + model + workspace; }
+};
+
+/// An upper estimate of Simulation(def).memory().total(), for budgets checked before building:
+/// per particle, the state and model (about 450 bytes) plus the method's workspace, which for
+/// `fast` includes its sparse Cholesky factor (fill grows like log n on a grid).
+int64_t estimated_memory(const SceneDef& def);
+
 class Simulation {
  public:
   /// Builds the cloth and the solver. Throws InputError if `def` fails check(), or if the
@@ -55,6 +68,7 @@ class Simulation {
   const ClothState& state() const { return state_; }
   const std::vector<Collider>& colliders() const { return colliders_; }
   Diagnostics diagnostics() const;
+  MemoryUse memory() const;
 
   /// Applies a changed definition. Forces, colliders, spring parameters, mass and solver
   /// settings take effect at once; returns false (and changes nothing) when the change needs a

@@ -64,6 +64,7 @@ struct Row {
   int64_t particles = 0, frames = 0;
   double setup_ms = 0, ms_median = 0, ms_p10 = 0, ms_p90 = 0, rate = 0;
   double strain_last_second = 0, strain_last = 0, strain_p99 = 0, penetration = 0;
+  MemoryUse memory;  ///< after the run
   bool on_sphere = true, quality = false;
   int tries = 1;  ///< runs made to find the substeps (searched methods)
 };
@@ -138,6 +139,7 @@ Row bench_one(const BenchOptions& o, const std::string& scene, int n, const Vari
   row.ms_p10 = percentile(r.frame_ms, 0.1);
   row.ms_p90 = percentile(r.frame_ms, 0.9);
   row.rate = row.ms_median > 0 ? row.particles * row.substeps / (row.ms_median * 1e-3) : 0.0;
+  row.memory = sim->memory();
   row.strain_last = d.max_strain;
   row.strain_p99 = d.p99_strain;
   row.penetration = d.max_penetration;
@@ -175,10 +177,14 @@ Row bench_best(const BenchOptions& o, const std::string& scene, int n, const Var
   return row;
 }
 
+double bytes_per_particle(const Row& r) {
+  return r.particles > 0 ? static_cast<double>(r.memory.total()) / r.particles : 0.0;
+}
+
 void print_table(const std::vector<Row>& rows) {
-  std::printf("%-8s %5s %-11s %-6s %3s %8s %10s %9s %12s %8s %8s %8s %8s %s\n", "scene", "N",
-              "method", "prec", "thr", "substeps", "ms/frame", "p10-p90", "part·sub/s", "strain1s",
-              "strain", "p99", "penetr.", "quality");
+  std::printf("%-8s %5s %-11s %-6s %3s %8s %10s %9s %12s %6s %8s %8s %8s %8s %s\n", "scene", "N",
+              "method", "prec", "thr", "substeps", "ms/frame", "p10-p90", "part·sub/s", "B/part",
+              "strain1s", "strain", "p99", "penetr.", "quality");
   for (const Row& r : rows) {
     if (r.status.rfind("skipped", 0) == 0) {
       std::printf("%-8s %5d %-11s %-6s %3d  %s\n", r.scene.c_str(), r.n, r.method.c_str(),
@@ -188,10 +194,11 @@ void print_table(const std::vector<Row>& rows) {
     char spread[32];
     std::snprintf(spread, sizeof spread, "%.2f-%.2f", r.ms_p10, r.ms_p90);
     std::printf(
-        "%-8s %5d %-11s %-6s %3d %8d %10.3f %9s %12.3g %7.2f%% %7.2f%% %7.2f%% %7.2f%% %s\n",
+        "%-8s %5d %-11s %-6s %3d %8d %10.3f %9s %12.3g %6.0f %7.2f%% %7.2f%% %7.2f%% %7.2f%% "
+        "%s\n",
         r.scene.c_str(), r.n, r.method.c_str(), r.precision.c_str(), r.threads, r.substeps,
-        r.ms_median, spread, r.rate, 100 * r.strain_last_second, 100 * r.strain_last,
-        100 * r.strain_p99, 100 * r.penetration,
+        r.ms_median, spread, r.rate, bytes_per_particle(r), 100 * r.strain_last_second,
+        100 * r.strain_last, 100 * r.strain_p99, 100 * r.penetration,
         r.quality ? "yes" : (r.status == "ok" ? "no" : r.status.c_str()));
   }
 }
@@ -211,6 +218,10 @@ nlohmann::json to_json(const Row& r) {
           {"ms_per_frame_p10", r.ms_p10},
           {"ms_per_frame_p90", r.ms_p90},
           {"particle_substeps_per_second", r.rate},
+          {"bytes_per_particle", bytes_per_particle(r)},
+          {"state_bytes", r.memory.state},
+          {"model_bytes", r.memory.model},
+          {"workspace_bytes", r.memory.workspace},
           {"max_strain_last_second", r.strain_last_second},
           {"max_strain", r.strain_last},
           {"p99_strain", r.strain_p99},

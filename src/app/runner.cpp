@@ -68,7 +68,7 @@ RunResult run_frames(Simulation& sim, int64_t frames, const RunHooks& hooks) {
 
 void check_memory(const SceneDef& def, const Budget& budget) {
   const int64_t particles = int64_t{def.cloth.cols} * int64_t{def.cloth.rows};
-  const int64_t bytes = particles * kBytesPerParticle;
+  const int64_t bytes = estimated_memory(def);
   if (bytes <= budget.bytes) return;
   char problem[256];
   std::snprintf(problem, sizeof problem,
@@ -127,6 +127,11 @@ nlohmann::json stats_json(const Simulation& sim, const RunResult& run) {
   j["wall_seconds"] = run.wall_seconds;
   j["setup_ms"] = run.setup_ms;
   j["ms_per_frame"] = run.median_ms();
+  const MemoryUse memory = sim.memory();
+  j["state_bytes"] = memory.state;
+  j["model_bytes"] = memory.model;
+  j["workspace_bytes"] = memory.workspace;
+  j["bytes_per_particle"] = static_cast<double>(memory.total()) / sim.model().size();
   // JSON has no NaN or infinity: non-finite figures of a diverged state are written as null.
   auto figure = [](double x) { return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(); };
   j["kinetic_energy"] = figure(d.kinetic_energy);

@@ -43,8 +43,6 @@ struct Budget {
   int64_t bytes = int64_t{2} << 30;  ///< estimated memory of state, springs and solver
   double updates = 3e11;  ///< frames × substeps × (particles + springs): about an hour at 10 ns
 };
-/// Rough bytes per particle: state, rest shape, about six springs, triangles, solver workspace.
-inline constexpr int64_t kBytesPerParticle = 1024;
 
 /// Throws InputError (at cloth.resolution) if the cloth would not fit the budget.
 void check_memory(const SceneDef& def, const Budget& budget = {});

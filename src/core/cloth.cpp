@@ -177,4 +177,13 @@ void update_normals(const ClothModel& model, ClothState& state) {
   }
 }
 
+int64_t heap_bytes(const ClothModel& m) {
+  return heap_bytes(m.springs, m.colour_begin, m.triangles, m.vertex_triangle_begin,
+                    m.vertex_triangles, m.uv, m.rest_position, m.mass);
+}
+
+int64_t heap_bytes(const ClothState& s) {
+  return heap_bytes(s.x, s.v, s.inv_mass, s.pinned, s.anchor, s.normal, s.area);
+}
+
 }  // namespace drape

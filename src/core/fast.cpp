@@ -159,6 +159,17 @@ class Fast final : public Solver {
   int substeps() const override {
     return substeps_;
   }
+  int64_t workspace_bytes() const override {
+    // The factor L: values and row indices per non-zero, one column pointer per unknown; the
+    // factorisation keeps a few more integers per unknown (permutations, elimination tree).
+    const auto& factor = llt_.matrixL().nestedExpression();
+    const int64_t unknowns = factor.outerSize();
+    const int64_t factor_bytes = factor.nonZeros() * int64_t{sizeof(double) + sizeof(int)} +
+                                 unknowns * 5 * int64_t{sizeof(int)};
+    return factor_bytes + X_.size() * int64_t{sizeof(double)} +
+           heap_bytes(free_, perm_, x0_, y_, xk_, xkm1_, b0_, rhs_, force_, contact_n_,
+                      contact_dvn_, contact_mu_, attachments_.pins());
+  }
 
  private:
   // 1. Drag (semi-implicit, on v₀), the inertial target y, and the constant part of the

@@ -68,6 +68,10 @@ class Implicit final : public Solver {
   int substeps() const override {
     return substeps_;
   }
+  int64_t workspace_bytes() const override {
+    return heap_bytes(rhs_, force_, dv_, r_, s_, c_, q_, contact_n_, contact_dvn_, contact_mu_,
+                      block_, diag_, precond_, attachments_.pins());
+  }
 
  private:
   // 1. The right-hand side b = h·f₀ − h²·K·v₀ (K = −∂f/∂x, clamped), each spring's system

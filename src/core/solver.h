@@ -32,6 +32,9 @@ class Solver {
   /// Advances one frame of dt. Leaves state.normal up to date.
   virtual void step_frame(World& world, double dt) = 0;
   virtual int substeps() const = 0;
+  /// Heap bytes of the method's own arrays (its workspace, factorisations included), as sized
+  /// by the last prepare(): what the method adds to the model and state, for memory reports.
+  virtual int64_t workspace_bytes() const = 0;
   /// Whether the springs' elastic energy in the state this method leaves is energy the method
   /// put there. True for an exact explicit update; false for methods that stop iterating short
   /// of convergence (their leftover stretch is solver error), so the divergence watch leaves

@@ -76,6 +76,9 @@ class Symplectic final : public Solver {
 
   int substeps() const override { return substeps_; }
   bool stretch_is_energy() const override { return true; }
+  int64_t workspace_bytes() const override {
+    return heap_bytes(force_, attachments_.pins());
+  }
 
  private:
   int substeps_ = 1;

@@ -162,6 +162,11 @@ class GridXpbd final : public Solver {
   int substeps() const override {
     return substeps_;
   }
+  int64_t workspace_bytes() const override {
+    return heap_bytes(base_.x, base_.y, base_.z, move_.x, move_.y, move_.z, v_.x, v_.y, v_.z,
+                      accel_.x, accel_.y, accel_.z, inv_mass_, scratch_, families_, lambda_,
+                      attachments_.pins(), pin_slot_, attachment_limit_);
+  }
 
  private:
   // ---- Set-up --------------------------------------------------------------------------------
