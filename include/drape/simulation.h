@@ -35,6 +35,10 @@ struct MemoryUse {
   int64_t model = 0;      ///< springs, triangles and adjacency, rest shape, masses
   int64_t workspace = 0;  ///< the solver's arrays and factorisations, and the simulation's own
   int64_t total() const { return state + model + workspace; }
+  /// total() shared out over `particles` (0 for none).
+  double per_particle(int64_t particles) const {
+    return particles > 0 ? static_cast<double>(total()) / static_cast<double>(particles) : 0.0;
+  }
 };
 
 /// An upper estimate of Simulation(def).memory().total(), for budgets checked before building:

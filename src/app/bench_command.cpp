@@ -177,10 +177,6 @@ Row bench_best(const BenchOptions& o, const std::string& scene, int n, const Var
   return row;
 }
 
-double bytes_per_particle(const Row& r) {
-  return r.particles > 0 ? static_cast<double>(r.memory.total()) / r.particles : 0.0;
-}
-
 void print_table(const std::vector<Row>& rows) {
   std::printf("%-8s %5s %-11s %-6s %3s %8s %10s %9s %12s %6s %8s %8s %8s %8s %s\n", "scene", "N",
               "method", "prec", "thr", "substeps", "ms/frame", "p10-p90", "part·sub/s", "B/part",
@@ -197,7 +193,7 @@ void print_table(const std::vector<Row>& rows) {
         "%-8s %5d %-11s %-6s %3d %8d %10.3f %9s %12.3g %6.0f %7.2f%% %7.2f%% %7.2f%% %7.2f%% "
         "%s\n",
         r.scene.c_str(), r.n, r.method.c_str(), r.precision.c_str(), r.threads, r.substeps,
-        r.ms_median, spread, r.rate, bytes_per_particle(r), 100 * r.strain_last_second,
+        r.ms_median, spread, r.rate, r.memory.per_particle(r.particles), 100 * r.strain_last_second,
         100 * r.strain_last, 100 * r.strain_p99, 100 * r.penetration,
         r.quality ? "yes" : (r.status == "ok" ? "no" : r.status.c_str()));
   }
@@ -218,7 +214,7 @@ nlohmann::json to_json(const Row& r) {
           {"ms_per_frame_p10", r.ms_p10},
           {"ms_per_frame_p90", r.ms_p90},
           {"particle_substeps_per_second", r.rate},
-          {"bytes_per_particle", bytes_per_particle(r)},
+          {"bytes_per_particle", r.memory.per_particle(r.particles)},
           {"state_bytes", r.memory.state},
           {"model_bytes", r.memory.model},
           {"workspace_bytes", r.memory.workspace},

@@ -131,7 +131,7 @@ nlohmann::json stats_json(const Simulation& sim, const RunResult& run) {
   j["state_bytes"] = memory.state;
   j["model_bytes"] = memory.model;
   j["workspace_bytes"] = memory.workspace;
-  j["bytes_per_particle"] = static_cast<double>(memory.total()) / sim.model().size();
+  j["bytes_per_particle"] = memory.per_particle(sim.model().size());
   // JSON has no NaN or infinity: non-finite figures of a diverged state are written as null.
   auto figure = [](double x) { return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(); };
   j["kinetic_energy"] = figure(d.kinetic_energy);
