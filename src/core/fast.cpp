@@ -12,11 +12,16 @@
 // inside the prefactored matrix: unconditionally stable, momentum-conserving, but it also damps
 // the relative motion across the spring (bending and swinging fold motion), a little more than
 // the other methods do.
-// Contacts: the inertial target y is projected out of the colliders before the iterations, so
-// the solve relaxes the springs around where the contact puts a particle; projecting only
-// after the solve would stretch stiff springs by up to h²·g each step and pump energy into
-// them. Friction uses the normal velocity change of that projection; what the springs still
-// push inside is resolved after the solve as in the other methods.
+// Contacts: the inertial target y is projected out of the colliders before the iterations, and
+// a stiff term w·½|x − p|² (p: the iterate moved out of the colliders) holds the particles that
+// touch or approach a collider at the surface inside the solve, so the solve relaxes the springs
+// around where the contact puts a particle; projecting only after the solve would stretch stiff
+// springs by up to h²·g each step and pump energy into them. The term lives in the factorised
+// matrix, so only particles that need it carry it: on every other particle it would brake all
+// motion (falling included) to a crawl, since w ≫ m. When that set changes the matrix is
+// refactorised numerically (its pattern is fixed). Friction uses the normal velocity change of
+// the projection of y; what the springs still push inside is resolved after the solve as in the
+// other methods.
 // Pinned and held particles are eliminated (their positions move to the right-hand side), so the
 // factorisation depends on them: prepare() refactorises, and the Simulation calls it whenever
 // pins, the held particle, masses, stiffness or dt change.
@@ -83,27 +88,25 @@ class Fast final : public Solver {
         t.emplace_back(fj, fi, -a);
       }
     }
-    // Contacts as a term of the minimised energy, w·½|x − p|² for every free particle with p
-    // its current iterate moved out of the colliders (the local step finds p like a spring's
-    // direction): zero where nothing touches, a stiff pull to the surface where something
-    // does, and the same w everywhere, so it lives in the prefactored matrix. Projecting only
-    // the inertial target y would not do: h²k ≫ m, so stiff springs overrule it.
+    // Contacts as a term of the minimised energy, w·½|x − p|² with p the particle's current
+    // iterate moved out of the colliders (the local step finds p like a spring's direction): a
+    // stiff pull to the surface where something touches. Projecting only the inertial target y
+    // would not do: h²k ≫ m, so stiff springs overrule it. Long-range attachments join the same
+    // term (p is also moved inside each pin's limit); with them every free particle carries it.
     double k_max = 0.0;
     for (const Spring& s : m.springs) k_max = std::max(k_max, s.stiffness);
-    // Long-range attachments join the same term: p is also moved inside each pin's limit.
     contact_weight_ =
         w.colliders.empty() && !attachments_.active() ? 0.0 : kContactWeight * h_ * h_ * k_max;
-    for (int32_t i = 0; i < n; ++i)
-      if (free_[i] >= 0 && contact_weight_ > 0.0)
-        t.emplace_back(free_[i], free_[i], contact_weight_);
-    Eigen::SparseMatrix<double> A(free, free);
-    A.setFromTriplets(t.begin(), t.end());
+    A_.resize(free, free);
+    A_.setFromTriplets(t.begin(), t.end());
+    diagonal_ = A_.diagonal();
+    held_.assign(n, 0);
+    held_now_.assign(n, 0);
+    if (attachments_.active())
+      for (int32_t i = 0; i < n; ++i) held_now_[i] = free_[i] >= 0;
     if (free > 0) {
-      llt_.compute(A);
-      if (llt_.info() != Eigen::Success)
-        throw InputError("solver.method",
-                         "the fast method could not factorise its system matrix (masses must "
-                         "be positive)");
+      llt_.analyzePattern(A_);
+      refactorise();
     }
     perm_.resize(free);
     for (int32_t k = 0; k < free; ++k)
@@ -166,9 +169,13 @@ class Fast final : public Solver {
     const int64_t unknowns = factor.outerSize();
     const int64_t factor_bytes = factor.nonZeros() * int64_t{sizeof(double) + sizeof(int)} +
                                  unknowns * 5 * int64_t{sizeof(int)};
-    return factor_bytes + X_.size() * int64_t{sizeof(double)} +
-           heap_bytes(free_, perm_, x0_, y_, xk_, xkm1_, b0_, rhs_, force_, contact_n_,
-                      contact_dvn_, contact_mu_, attachments_.pins());
+    // The system matrix kept for refactorising: the same layout, and its diagonal.
+    const int64_t matrix_bytes = A_.nonZeros() * int64_t{sizeof(double) + sizeof(int)} +
+                                 (A_.outerSize() + 1) * int64_t{sizeof(int)} +
+                                 diagonal_.size() * int64_t{sizeof(double)};
+    return factor_bytes + matrix_bytes + X_.size() * int64_t{sizeof(double)} +
+           heap_bytes(held_, held_now_, free_, perm_, x0_, y_, xk_, xkm1_, b0_, rhs_, force_,
+                      contact_n_, contact_dvn_, contact_mu_, attachments_.pins());
   }
 
  private:
@@ -187,6 +194,7 @@ class Fast final : public Solver {
     }
 #pragma omp parallel for schedule(static) if (worth_threads(n))
     for (int32_t i = 0; i < n; ++i) {
+      if (!attachments_.active()) held_now_[i] = 0;
       x0_[i] = s.x[i];
       y_[i] = free_[i] >= 0 ? Vec3(s.x[i] + h_ * s.v[i] + (h_ * h_ * s.inv_mass[i]) * force_[i])
                             : s.x[i];
@@ -194,8 +202,13 @@ class Fast final : public Solver {
       // cloth to the surface rather than into it.
       contact_dvn_[i] = 0.0;
       if (free_[i] >= 0) {
+        // The contact term holds particles whose target lies inside a collider or within this
+        // step's travel of it.
+        const double reach = h_ * s.v[i].norm();
         for (const Collider& col : w.colliders) {
           Vec3 nrm;
+          if (!attachments_.active())
+            held_now_[i] |= signed_distance(col, y_[i], nrm) - col.thickness < reach;
           const double moved = project_out(col, y_[i], nrm);
           if (moved > 0.0) {
             contact_n_[i] = nrm;
@@ -213,6 +226,7 @@ class Fast final : public Solver {
       xk_[i] = free_[i] >= 0 ? Vec3(s.x[i] + h_ * s.v[i]) : s.x[i];
       xkm1_[i] = xk_[i];
     }
+    if (contact_weight_ > 0.0 && held_now_ != held_) refactorise();
     const double h = h_, h2 = h_ * h_;
     for (int c = 0; c < m.colours(); ++c) {
       const int32_t begin = m.colour_begin[c], end = m.colour_begin[c + 1];
@@ -233,12 +247,12 @@ class Fast final : public Solver {
   // b₀ + h²·J·d, then gathered into the permuted unknowns.
   void local_and_rhs(const ClothModel& m, const std::vector<Collider>& colliders, double h2) {
     const int32_t n = m.size();
-    // Contact term w·|x − p|² (see prepare): p is x_k moved inside the attachments' limits
-    // and out of the colliders.
+    // Contact term w·|x − p|² on the particles that carry it (see prepare): p is x_k moved
+    // inside the attachments' limits and out of the colliders.
 #pragma omp parallel for schedule(static) if (worth_threads(n))
     for (int32_t i = 0; i < n; ++i) {
       rhs_[i] = b0_[i];
-      if (contact_weight_ == 0.0 || free_[i] < 0) continue;
+      if (!held_[i]) continue;
       Vec3 p = xk_[i], nrm;
       attachments_.project(m, xk_, i, p);
       for (const Collider& col : colliders) project_out(col, p, nrm);
@@ -266,6 +280,21 @@ class Fast final : public Solver {
       X_(row, 1) = rhs_[i].y();
       X_(row, 2) = rhs_[i].z();
     }
+  }
+
+  // The system matrix with the contact term on the particles in held_now_ (its pattern, and so
+  // the permutation, never changes: only the diagonal does).
+  void refactorise() {
+    held_ = held_now_;
+    for (int32_t i = 0; i < static_cast<int32_t>(free_.size()); ++i) {
+      const int32_t f = free_[i];
+      if (f >= 0) A_.coeffRef(f, f) = diagonal_[f] + (held_[i] ? contact_weight_ : 0.0);
+    }
+    llt_.factorize(A_);
+    if (llt_.info() != Eigen::Success)
+      throw InputError("solver.method",
+                       "the fast method could not factorise its system matrix (masses must be "
+                       "positive)");
   }
 
   // 3. Global step: L·Lᵀ·(P·x) = P·b, the three coordinates side by side (one thread each),
@@ -310,8 +339,12 @@ class Fast final : public Solver {
   double h_ = 1.0 / 60.0;
   double contact_weight_ = 0.0;  // kg, w of the contact term (0 without colliders)
   int32_t free_count_ = 0;
-  std::vector<int32_t> free_;  // particle → unknown, −1 when fixed
-  std::vector<int32_t> perm_;  // unknown → row of the permuted system
+  std::vector<int32_t> free_;      // particle → unknown, −1 when fixed
+  std::vector<int32_t> perm_;      // unknown → row of the permuted system
+  Eigen::SparseMatrix<double> A_;  // M + hC + h²L, plus w on the held particles
+  Eigen::VectorXd diagonal_;       // A_'s diagonal without the contact term
+  std::vector<char> held_;         // 1: the particle carries the contact term in the factor
+  std::vector<char> held_now_;     // the same for this substep, decided in inertia()
   Eigen::SimplicialLLT<Eigen::SparseMatrix<double>> llt_;
   Eigen::Matrix<double, Eigen::Dynamic, 3> X_;
   std::vector<Vec3> x0_, y_, xk_, xkm1_, b0_, rhs_, force_;
