@@ -13,8 +13,9 @@
 // the relative motion across the spring (bending and swinging fold motion), a little more than
 // the other methods do.
 // Contacts: the inertial target y is projected out of the colliders before the iterations, and
-// a stiff term w·½|x − p|² (p: the iterate moved out of the colliders) holds the particles that
-// touch or approach a collider at the surface inside the solve, so the solve relaxes the springs
+// a stiff term w·½|x − p|² (p: the iterate moved out of the colliders and inside the long-range
+// attachments' limits) holds the particles that touch or approach a collider, or a limit, there
+// inside the solve, so the solve relaxes the springs
 // around where the contact puts a particle; projecting only after the solve would stretch stiff
 // springs by up to h²·g each step and pump energy into them. The term lives in the factorised
 // matrix, so only particles that need it carry it: on every other particle it would brake all
@@ -30,7 +31,6 @@
 #include <algorithm>
 #include <cmath>
 #include <vector>
-
 
 #include "drape/error.h"
 #include "forces.h"
@@ -92,7 +92,7 @@ class Fast final : public Solver {
     // iterate moved out of the colliders (the local step finds p like a spring's direction): a
     // stiff pull to the surface where something touches. Projecting only the inertial target y
     // would not do: h²k ≫ m, so stiff springs overrule it. Long-range attachments join the same
-    // term (p is also moved inside each pin's limit); with them every free particle carries it.
+    // term: p is also moved inside each pin's limit.
     double k_max = 0.0;
     for (const Spring& s : m.springs) k_max = std::max(k_max, s.stiffness);
     contact_weight_ =
@@ -102,8 +102,6 @@ class Fast final : public Solver {
     diagonal_ = A_.diagonal();
     held_.assign(n, 0);
     held_now_.assign(n, 0);
-    if (attachments_.active())
-      for (int32_t i = 0; i < n; ++i) held_now_[i] = free_[i] >= 0;
     if (free > 0) {
       llt_.analyzePattern(A_);
       refactorise();
@@ -194,7 +192,7 @@ class Fast final : public Solver {
     }
 #pragma omp parallel for schedule(static) if (worth_threads(n))
     for (int32_t i = 0; i < n; ++i) {
-      if (!attachments_.active()) held_now_[i] = 0;
+      held_now_[i] = 0;
       x0_[i] = s.x[i];
       y_[i] = free_[i] >= 0 ? Vec3(s.x[i] + h_ * s.v[i] + (h_ * h_ * s.inv_mass[i]) * force_[i])
                             : s.x[i];
@@ -202,13 +200,13 @@ class Fast final : public Solver {
       // cloth to the surface rather than into it.
       contact_dvn_[i] = 0.0;
       if (free_[i] >= 0) {
-        // The contact term holds particles whose target lies inside a collider or within this
-        // step's travel of it.
+        // The contact term holds particles whose target lies inside a collider or beyond an
+        // attachment's limit, or within this step's travel of either.
         const double reach = h_ * s.v[i].norm();
+        held_now_[i] = attachments_.within_reach(m, s.x, i, y_[i], reach);
         for (const Collider& col : w.colliders) {
           Vec3 nrm;
-          if (!attachments_.active())
-            held_now_[i] |= signed_distance(col, y_[i], nrm) - col.thickness < reach;
+          held_now_[i] |= signed_distance(col, y_[i], nrm) - col.thickness < reach;
           const double moved = project_out(col, y_[i], nrm);
           if (moved > 0.0) {
             contact_n_[i] = nrm;

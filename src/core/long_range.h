@@ -48,6 +48,14 @@ class LongRange {
   void project(const ClothModel& model, const std::vector<Vec3>& x, int32_t p, Vec3& xp) const {
     for (const int32_t a : pins_) project_attachment(x[a], limit(model, p, a), xp);
   }
+  /// Whether position xp of free particle p lies beyond, or within `reach` of, one of its limits
+  /// (pins at x).
+  bool within_reach(const ClothModel& model, const std::vector<Vec3>& x, int32_t p, const Vec3& xp,
+                    double reach) const {
+    for (const int32_t a : pins_)
+      if ((xp - x[a]).norm() > limit(model, p, a) - reach) return true;
+    return false;
+  }
   /// The pinned particles, in order.
   const std::vector<int32_t>& pins() const { return pins_; }
   /// The largest distance allowed between particle p and pin a, m.
