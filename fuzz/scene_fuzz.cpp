@@ -39,7 +39,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         iterations = def.solver.iterations > 0 ? def.solver.iterations : 200;
         break;
       case drape::Method::xpbd:
-        iterations = std::max(1, def.solver.iterations);
+        iterations = std::max(1, def.solver.iterations) + def.solver.stiff_sweeps;
         break;
       case drape::Method::symplectic:
         break;

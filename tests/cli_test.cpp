@@ -312,6 +312,30 @@ TEST_F(Cli, BenchRunsXpbdInBothPrecisionsAndOthersInDouble) {
   EXPECT_EQ(drape("bench --precision quad --out " + out).code, 2);
 }
 
+TEST_F(Cli, BenchSearchesXpbdSubstepsAndStiffSweepsForTheBar) {
+  const std::string out = path("bench");
+  const json rows = bench_rows(
+      "--scenes drape --sizes 12 --methods xpbd --precision single --threads 1 --frames 60"
+      " --stiff-sweeps 5,0",
+      out);
+  ASSERT_EQ(rows.size(), 1u);
+  const json& row = rows[0];
+  EXPECT_EQ(row["status"], "ok");
+  EXPECT_TRUE(row["quality"].get<bool>()) << row.dump();
+  const int sweeps = row["stiff_sweeps"].get<int>();
+  EXPECT_TRUE(sweeps == 0 || sweeps == 5) << sweeps;
+  EXPECT_GE(row["substep_tries"].get<int>(), 1);
+  // The reported count is on the ladder and its run met the bar; without the search, xpbd
+  // runs at its automatic substeps and no stiff sweeps.
+  const json plain = bench_rows(
+      "--scenes drape --sizes 12 --methods xpbd --precision single --threads 1 --frames 5"
+      " --no-search",
+      out);
+  EXPECT_EQ(plain[0]["stiff_sweeps"], 0);
+  EXPECT_EQ(plain[0]["substep_tries"], 1);
+  EXPECT_EQ(drape("bench --stiff-sweeps -1 --out " + out).code, 2);
+}
+
 TEST_F(Cli, TerminateKeepsTheExportsSoFarAndExits143) {
   const std::string out = path("term");
   const std::string command = std::string(DRAPE_EXE) + " run " + scene("hang") +

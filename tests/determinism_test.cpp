@@ -58,12 +58,14 @@ TEST(Determinism, TheThreadCountDoesNotChangeTheBits) {
   def.cloth.mass = 100.0;  // heavy, so a few substeps are stable and the test stays quick
   def.solver.substeps = 20;
   const int before = omp_get_max_threads();
-  // The scene's own method, then xpbd (its grid sweeps) in both precisions.
+  // The scene's own method, then xpbd (its grid sweeps, with stiff sweeps too) in both
+  // precisions.
   for (Precision precision : {Precision::f64, Precision::f32}) {
     for (bool xpbd : {false, true}) {
       if (!xpbd && precision == Precision::f32) continue;
       SceneDef d = def;
       if (xpbd) d.solver.method = Method::xpbd;
+      if (xpbd) d.solver.stiff_sweeps = 2;
       d.solver.precision = precision;
       omp_set_num_threads(1);
       const uint64_t one = run(d, 3);

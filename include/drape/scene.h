@@ -113,6 +113,9 @@ struct SolverDef {
   /// 0 = the method's default (xpbd 1; fast: from the Chebyshev estimate, 10..200).
   /// In [0, 10000].
   int iterations = 0;
+  /// xpbd: extra Gauss–Seidel sweeps, per substep, of the stiffest springs (the structural ones
+  /// in the shipped scenes) after the sweeps of all springs, in [0, 10000]; 0 = none.
+  int stiff_sweeps = 0;
   double cg_tolerance = 1e-5;    ///< implicit: CG stops at this relative residual, in (0, 1)
   int cg_max_iterations = 2000;  ///< implicit: CG iteration cap per substep, in [1, 100000]
   /// fast: spectral radius estimate for Chebyshev acceleration (Wang 2015), in [0, 1);

@@ -426,6 +426,7 @@ void Viewer::draw_panel() {
         edit_.solver.precision = single ? Precision::f32 : Precision::f64;
         live = true;
       }
+      live |= ImGui::SliderInt("stiff sweeps", &edit_.solver.stiff_sweeps, 0, 40);
     }
     double dt_ms = 1000.0 * edit_.solver.dt;
     if (slider("frame dt (ms)", dt_ms, 1.0, 50.0, "%.2f")) {

@@ -165,6 +165,8 @@ void check(const SceneDef& def) {
   require(
       s.iterations >= 0 && s.iterations <= 10000, "solver.iterations",
       "is " + std::to_string(s.iterations) + ", must be in [0, 10000] (0 = the method's default)");
+  require(s.stiff_sweeps >= 0 && s.stiff_sweeps <= 10000, "solver.stiff_sweeps",
+          "is " + std::to_string(s.stiff_sweeps) + ", must be in [0, 10000]");
   range(s.cg_tolerance, 0.0, 1.0, "solver.cg_tolerance", true);
   require(s.cg_tolerance < 1.0, "solver.cg_tolerance", "must be below 1");
   require(s.cg_max_iterations >= 1 && s.cg_max_iterations <= 100000, "solver.cg_max_iterations",

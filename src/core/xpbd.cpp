@@ -91,7 +91,10 @@ class GridXpbd final : public Solver {
     inv_mass_.assign(slots, 0.0);  // padding slots stay at zero: they never move
     scratch_.assign(n, Vec3::Zero());
     prepare_families(m);
+    stiffest_ = 0.0;
+    for (const Family& f : families_) stiffest_ = std::max(stiffest_, f.stiffness);
     iterations_ = def.iterations > 0 ? def.iterations : kDefaultIterations;
+    stiff_sweeps_ = def.stiff_sweeps;
     lambda_.assign(iterations_ > 1 ? families_.size() * static_cast<size_t>(slots) : 0, 0.0);
     attachments_.prepare(m, w.state, w.long_range);
     const std::vector<int32_t>& pins = attachments_.pins();
@@ -143,6 +146,7 @@ class GridXpbd final : public Solver {
       for (int k = 0; k < substeps_; ++k) {
         predict(h, drag);
         for (int it = 0; it < iterations_; ++it) project_springs(h, it);
+        for (int it = 0; it < stiff_sweeps_; ++it) project_stiffest(h);
         if (attachments_.active()) apply_attachments();
         finish_substep(w.colliders, h);
       }
@@ -299,6 +303,23 @@ class GridXpbd final : public Solver {
     }
   }
 
+  // One more sweep of the stiffest families only (solver.stiff_sweeps). With one sweep per
+  // substep every spring much stiffer than m/h² acts alike, about as stiff as m/h² allows, and
+  // the softer families, swept after the stiffest, leave them stretched at the substep's end:
+  // cloth forced to shear (draped over a sphere) stretches its structural springs as much as its
+  // shear springs. Sweeping the stiffest again restores their precedence. These sweeps start
+  // from λ = 0 (a plain projection with the spring's compliance and damping).
+  void project_stiffest(Real h) {
+    if (stiffest_ <= 0.0) return;  // no spring has stiffness: nothing to sweep
+    for (const Family& f : families_) {
+      if (f.stiffness < stiffest_) continue;
+      const Real alpha_tilde = 1.0 / (f.stiffness * h * h);
+      const Real gamma = f.damping / (f.stiffness * h);
+      for (int colour = 0; colour < 2; ++colour)
+        sweep_family<false>(f, colour, alpha_tilde, gamma, nullptr, true);
+    }
+  }
+
   // The springs of family f whose colour is `colour`: for dr > 0 the rows r with (r / dr) even
   // or odd; for dr = 0 the springs whose first column c has (c / dc) even or odd, which for
   // dc ≤ 2 depends on c mod 4 alone. Springs are indexed for λ by their first particle's slot.
@@ -425,6 +446,8 @@ class GridXpbd final : public Solver {
   GridLayout grid_;
   int substeps_ = 1;
   int iterations_ = kDefaultIterations;
+  int stiff_sweeps_ = 0;
+  double stiffest_ = 0.0;  ///< N/m, the stiffest family's stiffness (what stiff sweeps redo)
   Soa<Real> base_, move_, v_, accel_;  ///< x = base + move (see split); per slot
   std::vector<Real> inv_mass_;         ///< per slot; zero for pins, held particles and padding
   std::vector<Vec3> scratch_;          ///< wind forces, AoS as forces.h writes them
