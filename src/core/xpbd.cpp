@@ -287,19 +287,9 @@ class GridXpbd final : public Solver {
   // One Gauss–Seidel sweep over every fine spring, family by family and colour by colour.
   void project_springs(Real h, int iteration) {
     for (size_t k = 0; k < families_.size(); ++k) {
-      const Family& f = families_[k];
-      if (f.stiffness <= 0.0) continue;  // infinite compliance: no constraint
-      const Real alpha_tilde = 1.0 / (f.stiffness * h * h);
-      // β = c (N·s/m): γ = α̃·β·h²/h = c/(k·h) (Macklin et al. 2016, eq. 26).
-      const Real gamma = f.damping / (f.stiffness * h);
-      for (int colour = 0; colour < 2; ++colour) {
-        if (lambda_.empty()) {
-          sweep_family<false>(f, colour, alpha_tilde, gamma, nullptr, true);
-        } else {
-          Real* lambda = lambda_.data() + k * grid_.size();
-          sweep_family<true>(f, colour, alpha_tilde, gamma, lambda, iteration == 0);
-        }
-      }
+      if (families_[k].stiffness <= 0.0) continue;  // infinite compliance: no constraint
+      sweep_colours(families_[k], h, lambda_.empty() ? nullptr : lambda_.data() + k * grid_.size(),
+                    iteration == 0);
     }
   }
 
@@ -311,12 +301,21 @@ class GridXpbd final : public Solver {
   // from λ = 0 (a plain projection with the spring's compliance and damping).
   void project_stiffest(Real h) {
     if (stiffest_ <= 0.0) return;  // no spring has stiffness: nothing to sweep
-    for (const Family& f : families_) {
-      if (f.stiffness < stiffest_) continue;
-      const Real alpha_tilde = 1.0 / (f.stiffness * h * h);
-      const Real gamma = f.damping / (f.stiffness * h);
-      for (int colour = 0; colour < 2; ++colour)
+    for (const Family& f : families_)
+      if (f.stiffness >= stiffest_) sweep_colours(f, h, nullptr, true);
+  }
+
+  // Both colours of family f in a substep of h; with λ (several iterations) accumulated in
+  // `lambda`, from zero when `first`.
+  void sweep_colours(const Family& f, Real h, Real* lambda, bool first) {
+    const Real alpha_tilde = 1.0 / (f.stiffness * h * h);
+    // β = c (N·s/m): γ = α̃·β·h²/h = c/(k·h) (Macklin et al. 2016, eq. 26).
+    const Real gamma = f.damping / (f.stiffness * h);
+    for (int colour = 0; colour < 2; ++colour) {
+      if (lambda == nullptr)
         sweep_family<false>(f, colour, alpha_tilde, gamma, nullptr, true);
+      else
+        sweep_family<true>(f, colour, alpha_tilde, gamma, lambda, first);
     }
   }
 
