@@ -92,18 +92,22 @@ void Frame(benchmark::State& st) {
 }
 BENCHMARK(Frame)->Arg(32)->Arg(128);
 
-// One frame of xpbd at 20 substeps with long-range attachments (hang-lr), in each precision.
+// One frame of xpbd at 20 substeps with long-range attachments (hang-lr), in each precision,
+// with and without stiff sweeps (each a sweep of the structural springs alone).
 void XpbdFrame(benchmark::State& st) {
   SceneDef def = grid(static_cast<int>(st.range(0)));
   def.solver.method = Method::xpbd;
   def.solver.precision = st.range(1) ? Precision::f32 : Precision::f64;
   def.solver.substeps = 20;
+  def.solver.stiff_sweeps = static_cast<int>(st.range(2));
   def.cloth.long_range.enabled = true;
   Simulation sim(def);
   for (auto _ : st) sim.step();
   st.SetItemsProcessed(st.iterations() * sim.model().size() * def.solver.substeps);
 }
-BENCHMARK(XpbdFrame)->ArgsProduct({{128, 256}, {0, 1}})->ArgNames({"n", "single"});
+BENCHMARK(XpbdFrame)
+    ->ArgsProduct({{128, 256}, {0, 1}, {0, 3}})
+    ->ArgNames({"n", "single", "stiff_sweeps"});
 
 }  // namespace
 }  // namespace drape
