@@ -325,8 +325,7 @@ TEST_F(Cli, BenchSearchesXpbdSubstepsAndStiffSweepsForTheBar) {
   const int sweeps = row["stiff_sweeps"].get<int>();
   EXPECT_TRUE(sweeps == 0 || sweeps == 5) << sweeps;
   EXPECT_GE(row["substep_tries"].get<int>(), 1);
-  // The reported count is on the ladder and its run met the bar; without the search, xpbd
-  // runs at its automatic substeps and no stiff sweeps.
+  // Without the search, xpbd runs once at its automatic substeps and no stiff sweeps.
   const json plain = bench_rows(
       "--scenes drape --sizes 12 --methods xpbd --precision single --threads 1 --frames 5"
       " --no-search",

@@ -14,15 +14,14 @@
 // the other methods do.
 // Contacts: the inertial target y is projected out of the colliders before the iterations, and
 // a stiff term w·½|x − p|² (p: the iterate moved out of the colliders and inside the long-range
-// attachments' limits) holds the particles that touch or approach a collider, or a limit, there
-// inside the solve, so the solve relaxes the springs
-// around where the contact puts a particle; projecting only after the solve would stretch stiff
-// springs by up to h²·g each step and pump energy into them. The term lives in the factorised
-// matrix, so only particles that need it carry it: on every other particle it would brake all
-// motion (falling included) to a crawl, since w ≫ m. When that set changes the matrix is
-// refactorised numerically (its pattern is fixed). Friction uses the normal velocity change of
-// the projection of y; what the springs still push inside is resolved after the solve as in the
-// other methods.
+// attachments' limits) holds a particle that touches or approaches a collider or a limit at the
+// surface inside the solve, so the solve relaxes the springs around where the contact puts it;
+// projecting only after the solve would stretch stiff springs by up to h²·g each step and pump
+// energy into them. The term lives in the factorised matrix, and only particles that need it
+// carry it: on every other particle it would brake all motion (falling included) to a crawl,
+// since w ≫ m. When that set changes the matrix is refactorised numerically (its pattern is
+// fixed). Friction uses the normal velocity change of the projection of y; what the springs
+// still push inside is resolved after the solve as in the other methods.
 // Pinned and held particles are eliminated (their positions move to the right-hand side), so the
 // factorisation depends on them: prepare() refactorises, and the Simulation calls it whenever
 // pins, the held particle, masses, stiffness or dt change.
