@@ -250,6 +250,68 @@ TEST(Collider, ContactProjectsOutAndAppliesCoulombFriction) {
   EXPECT_EQ(v3, Vec3(1.0, 2.0, 0.0));
 }
 
+TEST(Collider, PositionContactProjectsOutAndAppliesCoulombFrictionToTheMove) {
+  ColliderDef def;
+  def.center = Vec3(1, 2, 3);
+  def.radius = 0.5;
+  def.friction = 0.5;
+  def.thickness = 0.01;
+  const Collider c = make_collider(def);
+  const PositionContact<double> contact(c);
+  const Vec3 x_prev = c.center + Vec3(0, 0.51, 0);  // on the surface, at the thickness
+  // Applies the contact to move m from x_prev; returns what m becomes if pushed out along the
+  // normal and nothing else, and sets the normal n and the tangential part t of that move.
+  Vec3 n, t;
+  auto apply = [&](Vec3& m) {
+    const Vec3 p = x_prev + m - c.center;
+    n = p.normalized();
+    const Vec3 pushed = m + (0.51 - p.norm()) * n;
+    t = pushed - pushed.dot(n) * n;
+    contact.apply(true, p.x(), p.y(), p.z(), m.x(), m.y(), m.z());
+    return pushed;
+  };
+  // 0.02 in and 0.004 sideways: the slide (within 0.5 × the depth, about 0.02) is cancelled,
+  // what is left of the move is along the normal.
+  Vec3 m(0.004, -0.02, 0.0);
+  Vec3 pushed = apply(m);
+  EXPECT_GT(t.norm(), 0.003);
+  EXPECT_NEAR((m - pushed.dot(n) * n).norm(), 0.0, 1e-15);
+  // A slide of 0.05 is kinetic: shortened by 0.5 × the depth, in its own direction.
+  m = Vec3(0.05, -0.02, 0.0);
+  const double depth = 0.51 - (x_prev + m - c.center).norm();
+  pushed = apply(m);
+  EXPECT_NEAR((m - (pushed - 0.5 * depth * t.normalized())).norm(), 0.0, 1e-15);
+  // Outside the thickness, or pinned: left as it is.
+  m = Vec3(0.001, 0.02, 0.0);
+  apply(m);
+  EXPECT_EQ(m, Vec3(0.001, 0.02, 0.0));
+  m = Vec3(0.004, -0.02, 0.0);
+  const Vec3 p = x_prev + m - c.center;
+  contact.apply(false, p.x(), p.y(), p.z(), m.x(), m.y(), m.z());
+  EXPECT_EQ(m, Vec3(0.004, -0.02, 0.0));
+  // At the very centre there is no normal: pushed straight up.
+  m = Vec3::Zero();
+  contact.apply(true, 0.0, 0.0, 0.0, m.x(), m.y(), m.z());
+  EXPECT_NEAR((m - Vec3(0, 0.51, 0)).norm(), 0.0, 1e-15);
+}
+
+TEST(Collider, PositionContactOnAPlaneInSinglePrecision) {
+  ColliderDef def;
+  def.type = ColliderType::plane;
+  def.center = Vec3(0, -1, 0);
+  def.normal = Vec3(0, 2, 0);  // normalised on use
+  def.friction = 0.0;
+  def.thickness = 0.0;
+  const Collider c = make_collider(def);
+  const PositionContact<float> contact(c);
+  // 0.1 below the plane, sliding 0.3 without friction: lifted onto it, the slide kept.
+  float mx = 0.3f, my = -0.1f, mz = 0.0f;
+  contact.apply(true, 0.3f, -0.1f, 0.0f, mx, my, mz);
+  EXPECT_FLOAT_EQ(mx, 0.3f);
+  EXPECT_EQ(my, 0.0f);
+  EXPECT_EQ(mz, 0.0f);
+}
+
 TEST(Collider, SphereSignedDistance) {
   ColliderDef def;
   def.center = Vec3(1, 2, 3);

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <algorithm>
+#include <cmath>
 #include <vector>
 
 #include "drape/cloth.h"
@@ -65,22 +66,50 @@ inline void apply_friction(const Vec3& n, double dvn, double friction, Vec3& v) 
 }
 
 /// The position-level contact of the position-based methods (Macklin et al. 2014, "Unified
-/// particle physics", sec. 6.1): if x lies closer to the surface than the thickness, moves it
-/// out along the normal by the depth d, then cancels its tangential move since x_prev when
-/// that is within friction·d (static friction) or shortens it by friction·d (kinetic). Acting
-/// on positions, it holds cloth on a slope that velocity-level friction would let creep a
-/// little every substep. Returns true on contact.
-inline bool resolve_contact_position(const Collider& c, const Vec3& x_prev, Vec3& x) {
-  Vec3 n;
-  const double gap = signed_distance(c, x, n) - c.thickness;
-  if (gap >= 0.0) return false;
-  x -= gap * n;
-  const Vec3 moved = x - x_prev;
-  const Vec3 tangential = moved - moved.dot(n) * n;
-  const double slide = tangential.norm(), grip = c.friction * -gap;
-  x -= (slide <= grip ? 1.0 : grip / slide) * tangential;
-  return true;
-}
+/// particle physics", sec. 6.1), on scalars so that solver loops vectorise: if the particle lies
+/// closer to the surface than the thickness, it moves out along the normal by the depth d, then
+/// its tangential move since x_prev is cancelled when within friction·d (static friction) or
+/// shortened by friction·d (kinetic). Acting on positions, it holds cloth on a slope that
+/// velocity-level friction would let creep a little every substep. Real is the solver's storage
+/// type.
+template <typename Real>
+struct PositionContact {
+  explicit PositionContact(const Collider& c)
+      : sphere(c.type == ColliderType::sphere),
+        nx(static_cast<Real>(c.normal.x())),
+        ny(static_cast<Real>(c.normal.y())),
+        nz(static_cast<Real>(c.normal.z())),
+        radius(static_cast<Real>(c.radius)),
+        thickness(static_cast<Real>(c.thickness)),
+        friction(static_cast<Real>(c.friction)) {}
+
+  /// (px, py, pz) is x minus the collider's centre, (mx, my, mz) the move x − x_prev, updated
+  /// in place; `movable` false (a pinned particle) leaves it as it is. Branch-free.
+  void apply(bool movable, Real px, Real py, Real pz, Real& mx, Real& my, Real& mz) const {
+    // The outward normal and the signed gap to the surface's thickness.
+    const Real len = std::sqrt(px * px + py * py + pz * pz);
+    const Real inv = len > Real(0) ? Real(1) / len : Real(0);
+    const Real ux = sphere ? px * inv : nx, uz = sphere ? pz * inv : nz;
+    const Real uy = !sphere ? ny : len > Real(0) ? py * inv : Real(1);  // the centre: push up
+    const Real gap = (sphere ? len - radius : ux * px + uy * py + uz * pz) - thickness;
+    const bool hit = movable && gap < Real(0);
+    const Real out = hit ? -gap : Real(0);
+    mx += out * ux;
+    my += out * uy;
+    mz += out * uz;
+    const Real normal_move = mx * ux + my * uy + mz * uz;
+    const Real tx = mx - normal_move * ux, ty = my - normal_move * uy, tz = mz - normal_move * uz;
+    const Real slide = std::sqrt(tx * tx + ty * ty + tz * tz), grip = friction * out;
+    const Real cancel = !hit ? Real(0) : slide <= grip ? Real(1) : grip / slide;
+    mx -= cancel * tx;
+    my -= cancel * ty;
+    mz -= cancel * tz;
+  }
+
+  bool sphere;
+  Real nx, ny, nz;  ///< a plane's normal
+  Real radius, thickness, friction;
+};
 
 /// Moves x out to the thickness of the collider if it is closer (positions only). Returns the
 /// distance moved (0 if none) and sets `normal` to the outward normal when it moved.
