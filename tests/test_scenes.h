@@ -1,4 +1,4 @@
-// Scenes several test files share: the shipped ones and a bare cloth.
+// Scenes several test files share: the shipped ones, the benchmark's and a bare cloth.
 #pragma once
 
 #include <string>
@@ -11,6 +11,11 @@ namespace drape::testing_support {
 /// A scene from scenes/, as shipped.
 inline SceneDef shipped(const std::string& name) {
   return io::load_scene(std::string(DRAPE_SOURCE_DIR) + "/scenes/" + name + ".json");
+}
+
+/// A scene from bench/scenes/ (the standard benchmark's cloth), as shipped.
+inline SceneDef bench_scene(const std::string& name) {
+  return io::load_scene(std::string(DRAPE_SOURCE_DIR) + "/bench/scenes/" + name + ".json");
 }
 
 /// A cloth with nothing but what a test turns on: no gravity, drag, wind, pins or perturbation.

@@ -2,8 +2,8 @@
 // 2016, "XPBD"; Macklin et al. 2019, "Small steps in physics simulation"), written for the
 // cloth's regular grid. Per substep: predict with the external forces, project the springs as
 // compliant distance constraints (α = 1/k, damping from the spring's c) by Gauss–Seidel colour
-// by colour, apply long-range attachments, resolve contacts on positions, derive
-// v = (x − x_prev)/h.
+// by colour, sweep the stiffest springs again with the contacts if asked (solver.stiff_sweeps),
+// apply long-range attachments, resolve contacts on positions, derive v = (x − x_prev)/h.
 //
 // The state is kept as structure-of-arrays in a layout where every row holds its columns
 // grouped by residue mod 4 (GridLayout), and a family of springs (one direction of one kind)
@@ -32,6 +32,16 @@ namespace drape {
 namespace {
 
 constexpr int kDefaultIterations = 1;
+
+// The stiff sweeps (solver.stiff_sweeps) resolve the contacts before every kContactEvery-th of
+// them, starting with the first, so that the springs converge together with the contacts rather
+// than against contacts resolved only at the substep's end. Without that, cloth folding off a
+// collider keeps its structural springs compressed where it leaves the surface: drape-128 at 32
+// substeps held 1.6% there with 10 sweeps and with 150. With it the bench meets its bar on
+// drape-128 at 32 substeps + 20 sweeps, against 72 + 10 without. Every sweep, every second, third
+// or fifth gave the same fewest substeps on the bench at 64² and 128²; a contact pass costs about
+// half a stiff sweep, so every third keeps the gain for a third of the passes.
+constexpr int kContactEvery = 3;
 
 /// Positions (or any 3-vector field) as three arrays.
 template <typename Real>
@@ -146,7 +156,10 @@ class GridXpbd final : public Solver {
       for (int k = 0; k < substeps_; ++k) {
         predict(h, drag);
         for (int it = 0; it < iterations_; ++it) project_springs(h, it);
-        for (int it = 0; it < stiff_sweeps_; ++it) project_stiffest(h);
+        for (int it = 0; it < stiff_sweeps_; ++it) {
+          if (it % kContactEvery == 0 && !w.colliders.empty()) resolve_contacts(w.colliders);
+          project_stiffest(h);
+        }
         if (attachments_.active()) apply_attachments();
         finish_substep(w.colliders, h);
       }
@@ -399,7 +412,13 @@ class GridXpbd final : public Solver {
     }
   }
 
-  // Contacts (PositionContact in collider.h, x_prev being the base), then v = move/h.
+  // Contacts (PositionContact in collider.h, x_prev being the base) for every free particle.
+  void resolve_contacts(const std::vector<Collider>& colliders) {
+#pragma omp for schedule(static)
+    for (int r = 0; r < rows_; ++r) contacts_row(colliders, r);
+  }
+
+  // Contacts, then v = move/h.
   void finish_substep(const std::vector<Collider>& colliders, Real h) {
     const Real inv_h = 1 / h;
 #pragma omp for schedule(static)
