@@ -17,6 +17,7 @@
 #include "forces.h"
 #include "io/scene_io.h"
 #include "long_range.h"
+#include "solver.h"
 #include "test_scenes.h"
 
 namespace drape {
@@ -140,25 +141,30 @@ TEST(ImplicitStep, SpringBlockOfACompressedSpringStaysPositiveSemiDefinite) {
 
 // ---- Every new method -----------------------------------------------------------------------
 
-/// A method and the precision it steps in: every method in double, and xpbd in single too.
+/// A method and the precision it steps in: every method in double, and xpbd in single too,
+/// and xpbd with its structural springs solved as rows and columns (solver.line_passes).
 struct Variant {
   Method method;
   Precision precision = Precision::f64;
+  int line_passes = 0;
 };
 const Variant kVariants[] = {{Method::symplectic},
                              {Method::implicit},
                              {Method::xpbd},
                              {Method::fast},
-                             {Method::xpbd, Precision::f32}};
+                             {Method::xpbd, Precision::f32},
+                             {Method::xpbd, Precision::f64, 3}};
 
 std::string variant_name(const ::testing::TestParamInfo<Variant>& p) {
   return std::string(to_string(p.param.method)) +
-         (p.param.precision == Precision::f32 ? "_single" : "");
+         (p.param.precision == Precision::f32 ? "_single" : "") +
+         (p.param.line_passes > 0 ? "_lines" : "");
 }
 
 SceneDef with(SceneDef def, const Variant& v) {
   def.solver.method = v.method;
   def.solver.precision = v.precision;
+  def.solver.line_passes = v.line_passes;
   return def;
 }
 
@@ -202,7 +208,7 @@ TEST_P(EachMethod, FreeFallMatchesItsDiscreteSolutionAndTheClosedForm) {
   // move, so the base's rounding is carried, not lost): allowance n·ε relative, ε = 2^-23.
   // The same with a collider far below, out of reach over the whole fall: a method's contact
   // handling must not slow a cloth that touches nothing (fast's contact term once did, to a
-  // crawl).
+  // crawl). Line passes find every spring at rest length, so they change nothing.
   for (const bool collider : {false, true}) {
     SCOPED_TRACE(collider ? "a sphere far below" : "no collider");
     SceneDef def = with(bare(), GetParam());
@@ -259,6 +265,7 @@ TEST_P(EachMethod, AttachmentsFarFromTheirLimitsChangeNothing) {
   // hanging cloth comes near one in its first half second, so the cloth must move exactly as
   // without them. (fast's contact term once sat on every particle when attachments were on,
   // which held the whole cloth back.)
+  if (GetParam().line_passes > 0) GTEST_SKIP() << "line passes need attachments on a pinned cloth";
   SceneDef def = with(shipped("hang"), GetParam());
   def.cloth.cols = def.cloth.rows = 16;
   Simulation plain(def);
@@ -329,8 +336,10 @@ TEST_P(EachMethod, MemoryReportCoversItsArraysGrowsLinearlyAndStaysUnderTheEstim
       case Method::implicit:  // seven CG vectors, a 3×3 block per spring
         workspace = 7 * n * int64_t{sizeof(Vec3)} + springs * int64_t{sizeof(Mat3)};
         break;
-      case Method::xpbd:  // base, move, velocity, acceleration (3 each), inverse mass
-        workspace = 13 * n * (single(v) ? int64_t{sizeof(float)} : int64_t{sizeof(double)});
+      case Method::xpbd:  // base, move, velocity, acceleration (3 each), inverse mass; and for
+                          // line passes two λ and six per-slot arrays of the rows' and columns'
+        workspace = (v.line_passes > 0 ? 21 : 13) * n *
+                    (single(v) ? int64_t{sizeof(float)} : int64_t{sizeof(double)});
         break;
       case Method::fast:  // seven iterate vectors, and at least L's diagonal for each unknown
         workspace = 7 * n * int64_t{sizeof(Vec3)} + n * int64_t{sizeof(double) + sizeof(int)};
@@ -560,6 +569,12 @@ TEST(SolverKeys, MethodsAndLongRangeReadWriteAndRoundTrip) {
   EXPECT_EQ(s.solver.iterations, 7);
   EXPECT_EQ(s.solver.stiff_sweeps, 3);
   EXPECT_EQ(s.solver.cg_tolerance, 1e-7);
+  j["solver"]["stiff_sweeps"] = 0;
+  j["solver"]["line_passes"] = 5;
+  j["cloth"]["long_range"] = true;  // the default cloth is pinned
+  const SceneDef l = io::parse_scene(j, "t");
+  EXPECT_EQ(l.solver.line_passes, 5);
+  EXPECT_EQ(io::to_json(io::parse_scene(io::to_json(l), "t")), io::to_json(l));
   EXPECT_EQ(s.solver.cg_max_iterations, 99);
   EXPECT_EQ(s.solver.chebyshev_rho, 0.5);
   EXPECT_EQ(io::to_json(io::parse_scene(io::to_json(s), "t")), io::to_json(s));
@@ -596,6 +611,18 @@ TEST(SolverKeys, BadValuesNameTheFieldAndTheProblem) {
   EXPECT_NE(
       error([](json& j) { j["solver"]["stiff_sweeps"] = 10001; }).find("solver.stiff_sweeps"),
       std::string::npos);
+  EXPECT_NE(error([](json& j) { j["solver"]["line_passes"] = -1; }).find("solver.line_passes"),
+            std::string::npos);
+  const std::string both = error([](json& j) {
+    j["cloth"]["long_range"] = true;
+    j["solver"]["line_passes"] = 2;
+    j["solver"]["stiff_sweeps"] = 2;
+  });
+  EXPECT_NE(both.find("solver.line_passes"), std::string::npos) << both;
+  EXPECT_NE(both.find("solver.stiff_sweeps"), std::string::npos) << both;
+  const std::string pinned = error([](json& j) { j["solver"]["line_passes"] = 2; });
+  EXPECT_NE(pinned.find("solver.line_passes"), std::string::npos) << pinned;
+  EXPECT_NE(pinned.find("cloth.long_range"), std::string::npos) << pinned;
   EXPECT_NE(error([](json& j) { j["solver"]["method"] = "implict"; }).find("\"implicit\""),
             std::string::npos);
   EXPECT_NE(error([](json& j) { j["solver"]["precision"] = "half"; }).find("\"single\""),
@@ -666,6 +693,128 @@ TEST(XpbdStiffSweeps, KeepClothFoldingOffASphereFromCompressing) {
   }
   EXPECT_LT(compression, 0.01);
   EXPECT_LT(sim.diagnostics().max_penetration, 0.005);  // 1% of the radius, as the bench asks
+}
+
+// ---- xpbd's line passes ----------------------------------------------------------------------
+
+/// One substep of xpbd on `def`'s cloth from `x` (at rest), with no gravity; returns the largest
+/// structural strain after it.
+double strain_after_one_substep(SceneDef def, const std::function<void(std::vector<Vec3>&)>& move) {
+  def.forces.gravity = Vec3::Zero();
+  def.solver.substeps = 1;
+  const ClothModel model = build_grid(def.cloth);
+  ClothState state = initial_state(def.cloth, model);
+  move(state.x);
+  const std::vector<Collider> colliders;
+  World world{model, state, def.forces, colliders, 0.0, def.cloth.long_range};
+  const std::unique_ptr<Solver> solver = make_solver(def.solver);
+  solver->prepare(world, def.solver);
+  solver->step_frame(world, def.solver.dt);
+  double strain = 0.0;
+  for (const Spring& s : model.springs)
+    if (s.kind == SpringKind::structural)
+      strain = std::max(strain, std::abs((state.x[s.j] - state.x[s.i]).norm() / s.rest - 1.0));
+  return strain;
+}
+
+TEST(XpbdLinePasses, RemoveAUniformStretchInOnePassAtAnyResolution) {
+  // A flat cloth stretched 1% in both directions: every structural spring is 1% long and keeps
+  // its direction. A row's exact solve is then exact outright (the constraints are linear along
+  // a straight chain), and the columns' solve moves whole rows without turning them, so one pass
+  // leaves every structural spring at its rest length to round-off, however many particles a
+  // row holds. Sweeping spring by spring moves the stretch one spring per sweep: at 64×64 a
+  // sweep of all springs leaves almost all of it. Only structural springs, so nothing else
+  // pulls, and rigid ones, so that the step's compliance leaves no stretch of its own.
+  for (const int n : {8, 64}) {
+    SCOPED_TRACE("resolution " + std::to_string(n));
+    SceneDef def = bare(Method::xpbd);
+    def.cloth.cols = def.cloth.rows = n;
+    def.cloth.shear.stiffness = def.cloth.bending.stiffness = 0.0;
+    def.cloth.structural = {1e14, 0.0};  // rigid: compliance leaves no stretch of its own
+    auto stretch = [](std::vector<Vec3>& x) {
+      for (Vec3& p : x) p.head<2>() *= 1.01;  // a vertical cloth: its plane is x–y
+    };
+    def.solver.line_passes = 1;
+    EXPECT_LT(strain_after_one_substep(def, stretch), 1e-12);
+    def.solver.line_passes = 0;
+    def.solver.stiff_sweeps = 1;
+    EXPECT_GT(strain_after_one_substep(def, stretch), n > 8 ? 0.009 : 1e-4);
+  }
+}
+
+TEST(XpbdLinePasses, ConvergeACrumpledClothsStructuralSpringsInAFewPasses) {
+  // A cloth crumpled out of its plane (0.2 m deep at 16×16): its rows and columns bend and cross
+  // at angles, so a pass is one Newton step for each chain and block Gauss–Seidel between rows
+  // and columns. Each pass must leave far less strain than the last, and eight none to
+  // round-off (1.7%, 0.05%, 5e-7 and 3e-12 after 1, 2, 4 and 8 passes when written).
+  SceneDef def = bare(Method::xpbd);
+  def.cloth.cols = def.cloth.rows = 16;
+  def.cloth.shear.stiffness = def.cloth.bending.stiffness = 0.0;
+  def.cloth.structural = {1e14, 0.0};
+  auto crumple = [](std::vector<Vec3>& x) {
+    for (Vec3& p : x) p.z() += 0.2 * std::sin(3.0 * p.x()) * std::cos(2.0 * p.y());
+  };
+  double previous = 1.0;
+  for (const int passes : {1, 2, 4, 8}) {
+    def.solver.line_passes = passes;
+    const double strain = strain_after_one_substep(def, crumple);
+    SCOPED_TRACE(std::to_string(passes) + " passes: strain " + std::to_string(strain));
+    EXPECT_LT(strain, passes == 1 ? 0.05 : 0.1 * previous);
+    previous = strain;
+  }
+  EXPECT_LT(previous, 1e-10);
+}
+
+TEST(XpbdLinePasses, MeetTheBenchBarOnADrapeWhereAsManyStiffSweepsDoNot) {
+  // The benchmark's cloth (structural 1e5 N/m) dropped on its sphere, 48×48, 4 substeps a frame.
+  // Its own weight changes its springs' lengths by parts in 1e5, so strain beyond the bench's 1%
+  // bar is the solver's. With 4 line passes a substep it stays under the bar over the last
+  // second (0.65%); 4 stiff sweeps, the same structural springs swept spring by spring, leave
+  // 7%. And nothing ends inside the sphere.
+  auto worst_last_second = [](int line_passes, int stiff_sweeps) {
+    SceneDef def = bench_scene("drape");
+    def.solver.method = Method::xpbd;
+    def.cloth.cols = def.cloth.rows = 48;
+    def.solver.substeps = 4;
+    def.solver.line_passes = line_passes;
+    def.solver.stiff_sweeps = stiff_sweeps;
+    Simulation sim(def);
+    double strain = 0.0;
+    for (int frame = 1; frame <= 300; ++frame) {
+      EXPECT_TRUE(sim.step()) << sim.divergence();
+      if (frame > 240) strain = std::max(strain, sim.diagnostics().max_strain);
+    }
+    EXPECT_LT(sim.diagnostics().max_penetration, 0.005);  // 1% of the radius, as the bench asks
+    return strain;
+  };
+  EXPECT_LT(worst_last_second(4, 0), 0.01);
+  EXPECT_GT(worst_last_second(0, 4), 0.02);
+}
+
+TEST(XpbdLinePasses, PauseWhileTheHandHoldsAParticle) {
+  // Exact chains are rigid, and rigid chains carrying a cloth's weight to one held particle
+  // oscillate at large steps; so while a particle is held (and no attachment holds it), xpbd
+  // sweeps its structural springs one by one, exactly as without line passes, and goes back to
+  // them once it is let go.
+  SceneDef def = bench_scene("drape");
+  def.solver.method = Method::xpbd;
+  def.cloth.cols = def.cloth.rows = 16;
+  def.solver.substeps = 4;
+  Simulation plain(def);
+  def.solver.line_passes = 4;
+  Simulation lines(def);
+  for (Simulation* sim : {&plain, &lines}) {
+    sim->grab(0);
+    sim->move_grab(sim->state().x[0] + Vec3(0.0, 0.2, 0.0));
+    for (int f = 0; f < 20; ++f) ASSERT_TRUE(sim->step()) << sim->divergence();
+  }
+  for (int32_t i = 0; i < plain.model().size(); ++i)
+    ASSERT_EQ(lines.state().x[i], plain.state().x[i]) << "particle " << i;
+  for (Simulation* sim : {&plain, &lines}) {
+    sim->release();
+    for (int f = 0; f < 20; ++f) ASSERT_TRUE(sim->step()) << sim->divergence();
+  }
+  EXPECT_LT(lines.diagnostics().max_strain, 0.5 * plain.diagnostics().max_strain);
 }
 
 TEST(XpbdSubsteps, AutomaticSubstepsReachTheSpringsStiffness) {

@@ -116,6 +116,11 @@ struct SolverDef {
   /// xpbd: extra Gauss–Seidel sweeps, per substep, of the stiffest springs (the structural ones
   /// in the shipped scenes) after the sweeps of all springs, in [0, 10000]; 0 = none.
   int stiff_sweeps = 0;
+  /// xpbd: passes, per substep, that solve each row and each column of structural springs as
+  /// one chain, exactly (a tridiagonal solve), in place of sweeping them spring by spring, with
+  /// the contacts and attachments before each pass; in [0, 10000]; 0 = none. Not with
+  /// stiff_sweeps; a pinned cloth needs cloth.long_range with them.
+  int line_passes = 0;
   double cg_tolerance = 1e-5;    ///< implicit: CG stops at this relative residual, in (0, 1)
   int cg_max_iterations = 2000;  ///< implicit: CG iteration cap per substep, in [1, 100000]
   /// fast: spectral radius estimate for Chebyshev acceleration (Wang 2015), in [0, 1);

@@ -15,6 +15,15 @@ inline constexpr int64_t kParallelMin = 8192;  ///< items per loop before thread
 
 inline bool worth_threads(int64_t items) { return items >= kParallelMin; }
 
+/// Threads of the parallel region this is called in (1 outside one, and without OpenMP).
+inline int team_size() {
+#ifdef _OPENMP
+  return omp_get_num_threads();
+#else
+  return 1;
+#endif
+}
+
 /// Threads a parallel region may use (1 in a build without OpenMP).
 inline int max_threads() {
 #ifdef _OPENMP

@@ -167,6 +167,18 @@ void check(const SceneDef& def) {
       "is " + std::to_string(s.iterations) + ", must be in [0, 10000] (0 = the method's default)");
   require(s.stiff_sweeps >= 0 && s.stiff_sweeps <= 10000, "solver.stiff_sweeps",
           "is " + std::to_string(s.stiff_sweeps) + ", must be in [0, 10000]");
+  require(s.line_passes >= 0 && s.line_passes <= 10000, "solver.line_passes",
+          "is " + std::to_string(s.line_passes) + ", must be in [0, 10000]");
+  require(s.line_passes == 0 || s.stiff_sweeps == 0, "solver.line_passes",
+          "and solver.stiff_sweeps are two ways to converge the structural springs; set one of "
+          "them to 0");
+  // Solved exactly, rows and columns are rigid, and rigid chains under a pin's whole load
+  // oscillate and tear at the steps line passes are for; attachments take that load.
+  require(s.line_passes == 0 || def.cloth.pins.empty() || def.cloth.long_range.enabled,
+          "solver.line_passes",
+          "needs cloth.long_range: true on a pinned cloth (its rows and columns, solved exactly, "
+          "are rigid, and rigid chains carrying the cloth's weight to a pin become unstable at "
+          "large steps; the attachments carry it)");
   range(s.cg_tolerance, 0.0, 1.0, "solver.cg_tolerance", true);
   require(s.cg_tolerance < 1.0, "solver.cg_tolerance", "must be below 1");
   require(s.cg_max_iterations >= 1 && s.cg_max_iterations <= 100000, "solver.cg_max_iterations",

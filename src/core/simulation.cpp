@@ -113,12 +113,13 @@ bool Simulation::step() {
 int64_t estimated_memory(const SceneDef& def) {
   const int64_t n = int64_t{def.cloth.cols} * def.cloth.rows;
   // Measured per particle (memory() at 64×64 and 256×256): state 113 B, model 333–338 B;
-  // workspace symplectic 32 B, xpbd 136 B (84 B single), implicit 781–789 B, fast 1036 B at
-  // 4096 particles rising to 1508 B at 65 536 (about 118 B per doubling).
+  // workspace symplectic 32 B, xpbd 136 B (84 B single; with line passes 248 B, 140 B
+  // single), implicit 781–789 B, fast 1036 B at 4096 particles rising to 1508 B at 65 536
+  // (about 118 B per doubling).
   int64_t workspace = 0;
   switch (def.solver.method) {
     case Method::symplectic: workspace = 64; break;
-    case Method::xpbd: workspace = 192; break;
+    case Method::xpbd: workspace = def.solver.line_passes > 0 ? 384 : 192; break;
     case Method::implicit: workspace = 1024; break;
     case Method::fast:
       workspace = std::max<int64_t>(1024, 128 * static_cast<int64_t>(std::log2(double(n) + 1)));

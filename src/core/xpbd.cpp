@@ -4,6 +4,8 @@
 // compliant distance constraints (α = 1/k, damping from the spring's c) by Gauss–Seidel colour
 // by colour, sweep the stiffest springs again with the contacts if asked (solver.stiff_sweeps),
 // apply long-range attachments, resolve contacts on positions, derive v = (x − x_prev)/h.
+// With solver.line_passes the structural springs are not swept one by one: each row and each
+// column of them is one chain, solved exactly per pass (see "Line passes" below).
 //
 // The state is kept as structure-of-arrays in a layout where every row holds its columns
 // grouped by residue mod 4 (GridLayout), and a family of springs (one direction of one kind)
@@ -83,6 +85,7 @@ struct Family {
   int dc = 0, dr = 0;  ///< dr ≥ 0; dr = 0 means dc > 0
   int shift = 0;       ///< for dc < 0, the spring starts at column c + 1: (c + 1, r)–(c, r + 1)
   double rest = 0.0, stiffness = 0.0, damping = 0.0;
+  SpringKind kind = SpringKind::structural;
 };
 
 template <typename Real>
@@ -116,6 +119,7 @@ class GridXpbd final : public Solver {
         attachment_limit_[k * slots + grid_.slot(i)] =
             static_cast<Real>(attachments_.limit(m, i, pins[k]));
     }
+    prepare_lines(w, def);
     if (def.substeps > 0) {
       substeps_ = def.substeps;
       return;
@@ -160,7 +164,15 @@ class GridXpbd final : public Solver {
           if (it % kContactEvery == 0 && !w.colliders.empty()) resolve_contacts(w.colliders);
           project_stiffest(h);
         }
-        if (attachments_.active()) apply_attachments();
+        if (lines_) {
+          for (int pass = 0; pass < line_passes_; ++pass) {
+            if (attachments_.active()) apply_attachments();
+            if (!w.colliders.empty()) resolve_contacts(w.colliders);
+            solve_lines(h, pass == 0);
+          }
+        } else if (attachments_.active()) {
+          apply_attachments();
+        }
         finish_substep(w.colliders, h);
       }
 #pragma omp for schedule(static)
@@ -182,7 +194,10 @@ class GridXpbd final : public Solver {
   int64_t workspace_bytes() const override {
     return heap_bytes(base_.x, base_.y, base_.z, move_.x, move_.y, move_.z, v_.x, v_.y, v_.z,
                       accel_.x, accel_.y, accel_.z, inv_mass_, scratch_, families_, lambda_,
-                      attachments_.pins(), pin_slot_, attachment_limit_);
+                      attachments_.pins(), pin_slot_, attachment_limit_, col_slot_, row_start_,
+                      row_fixed_, col_fixed_, chain_n_.x, chain_n_.y, chain_n_.z, chain_f_,
+                      chain_g_, chain_beta_, chain_lambda_rows_, chain_lambda_cols_, rows_n_.x,
+                      rows_n_.y, rows_n_.z, rows_b_, rows_r_, rows_dl_);
   }
 
  private:
@@ -204,6 +219,7 @@ class GridXpbd final : public Solver {
       f.rest = sp.rest;
       f.stiffness = sp.stiffness;
       f.damping = sp.damping;
+      f.kind = sp.kind;
       auto same = [&](const Family& o) { return o.dc == f.dc && o.dr == f.dr; };
       auto it = std::find_if(families_.begin(), families_.end(), same);
       if (it == families_.end()) {
@@ -211,7 +227,7 @@ class GridXpbd final : public Solver {
         counts.push_back(1);
       } else {
         if (std::abs(it->rest - f.rest) > 1e-12 * f.rest || it->stiffness != f.stiffness ||
-            it->damping != f.damping)
+            it->damping != f.damping || it->kind != f.kind)
           throw std::logic_error("xpbd: springs of one grid direction differ");
         ++counts[it - families_.begin()];
       }
@@ -227,11 +243,60 @@ class GridXpbd final : public Solver {
     }
   }
 
+  // Line passes: which families are the chains, the layout's tables, the fixed chains and the
+  // scratch. They run only when nothing is fixed but what attachments hold (the pins, with
+  // cloth.long_range): scene files are checked for that, but a particle held by the hand is
+  // fixed too, and while it is held the structural springs are swept one by one instead.
+  void prepare_lines(const World& w, const SolverDef& def) {
+    const ClothModel& m = w.model;
+    line_passes_ = def.line_passes;
+    row_family_ = col_family_ = -1;
+    for (size_t k = 0; k < families_.size(); ++k) {
+      const Family& f = families_[k];
+      const bool structural = f.kind == SpringKind::structural && f.stiffness > 0.0;
+      if (f.dc == 1 && f.dr == 0 && structural) row_family_ = static_cast<int>(k);
+      if (f.dc == 0 && f.dr == 1 && structural) col_family_ = static_cast<int>(k);
+    }
+    int32_t fixed = 0;
+    for (int32_t i = 0; i < m.size(); ++i) fixed += w.state.inv_mass[i] == 0.0;
+    const bool held = fixed > static_cast<int32_t>(attachments_.pins().size());
+    lines_ = line_passes_ > 0 && row_family_ >= 0 && col_family_ >= 0 && !held;
+    if (!lines_) return;
+    col_slot_.resize(cols_);
+    for (int c = 0; c < cols_; ++c) col_slot_[c] = grid_.index(0, c);
+    row_start_.resize(rows_);
+    for (int r = 0; r < rows_; ++r) row_start_[r] = r * grid_.stride;
+    // A chain through a fixed particle is swept spring by spring: between two pins a row is a
+    // taut string, whose exact solve is near singular.
+    row_fixed_.assign(rows_, 0);
+    col_fixed_.assign(grid_.stride, 0);
+    for (int32_t i = 0; i < m.size(); ++i) {
+      if (w.state.inv_mass[i] != 0.0) continue;
+      row_fixed_[i / cols_] = 1;
+      col_fixed_[col_slot_[i % cols_]] = 1;
+    }
+    // Entry (t + 1)·lanes + l for constraint t of lane l, and one before and after each chain.
+    const size_t entries = std::max(size_t(rows_ + 1) * grid_.stride, size_t(cols_ + 1) * rows_);
+    chain_n_.resize(entries);
+    chain_f_.assign(entries, 0.0);
+    chain_g_.assign(entries, 0.0);
+    chain_beta_.assign(entries, 1.0);
+    chain_lambda_rows_.assign(entries, 0.0);
+    chain_lambda_cols_.assign(entries, 0.0);
+    const int32_t slots = grid_.size();
+    rows_n_.resize(slots);
+    rows_b_.assign(slots, 1.0);
+    rows_r_.assign(slots, 0.0);
+    rows_dl_.assign(slots, 0.0);
+  }
+
   // Substeps per frame when the scene leaves it to the method.
   int automatic_substeps(const World& w, const SolverDef& def) const {
     double kw = 0.0;
-    for (const Spring& s : w.model.springs)
+    for (const Spring& s : w.model.springs) {
+      if (lines_ && s.kind == SpringKind::structural) continue;  // solved as chains
       kw = std::max(kw, s.stiffness * std::max(w.state.inv_mass[s.i], w.state.inv_mass[s.j]));
+    }
     // With one iteration per substep a spring reaches an effective stiffness of about
     // min(k, m/h²), so the smallest count with m/h² ≥ k for every spring: below it, stiff and
     // soft springs (stretch and bending) look alike and the cloth acts like rubber.
@@ -301,6 +366,7 @@ class GridXpbd final : public Solver {
   void project_springs(Real h, int iteration) {
     for (size_t k = 0; k < families_.size(); ++k) {
       if (families_[k].stiffness <= 0.0) continue;  // infinite compliance: no constraint
+      if (lines_ && (int(k) == row_family_ || int(k) == col_family_)) continue;  // solved as chains
       sweep_colours(families_[k], h, lambda_.empty() ? nullptr : lambda_.data() + k * grid_.size(),
                     iteration == 0);
     }
@@ -332,6 +398,19 @@ class GridXpbd final : public Solver {
     }
   }
 
+  // The springs of family f from row r to row r + f.dr whose first column is ≡ b (mod 4): for
+  // k in [k_begin, k_end), column 4k + b at slot i0 + k and its partner at slot j0 + k.
+  struct Run {
+    int i0, j0, k_begin, k_end;
+  };
+  Run run_of(const Family& f, int r, int b) const {
+    // Columns cs = 4k + b in [shift, shift + span), partners cs + dc at residue b2, slot k + carry.
+    const int span = cols_ - std::abs(f.dc);
+    const int t = b + f.dc + 4, b2 = t & 3, carry = t / 4 - 1;
+    return {r * grid_.stride + b * grid_.block, (r + f.dr) * grid_.stride + b2 * grid_.block + carry,
+            std::max(0, (f.shift - b + 3) / 4), std::max(0, (f.shift + span - b + 3) / 4)};
+  }
+
   // The springs of family f whose colour is `colour`: for dr > 0 the rows r with (r / dr) even
   // or odd; for dr = 0 the springs whose first column c has (c / dc) even or odd, which for
   // dc ≤ 2 depends on c mod 4 alone. Springs are indexed for λ by their first particle's slot.
@@ -355,17 +434,10 @@ class GridXpbd final : public Solver {
                                   Real(0));
       }
     };
-    // The springs from row r to row r + f.dr whose first column is ≡ b (mod 4): columns
-    // cs = 4k + b in [shift, shift + span), partners cs + dc at residue b2, slot k + carry.
-    const int span = cols_ - std::abs(f.dc);
     auto run = [&](int r, int b) {
-      const int t = b + f.dc + 4, b2 = t & 3, carry = t / 4 - 1;
-      const int k_begin = std::max(0, (f.shift - b + 3) / 4);
-      const int k_end = std::max(0, (f.shift + span - b + 3) / 4);
-      const int i0 = r * grid_.stride + b * grid_.block;
-      const int j0 = (r + f.dr) * grid_.stride + b2 * grid_.block + carry;
+      const Run u = run_of(f, r, b);
 #pragma omp simd
-      for (int k = k_begin; k < k_end; ++k) one(i0 + k, j0 + k);
+      for (int k = u.k_begin; k < u.k_end; ++k) one(u.i0 + k, u.j0 + k);
     };
     if (f.dr > 0) {
       const int bands = (rows_ - f.dr + f.dr - 1) / f.dr;  // row bands of height dr
@@ -380,6 +452,244 @@ class GridXpbd final : public Solver {
         for (int b = 0; b < 4; ++b)
           if (((b / f.dc) & 1) == colour) run(r, b);
     }
+  }
+
+  // ---- Line passes ---------------------------------------------------------------------------
+  //
+  // A row of structural springs is a chain of constraints t = 0 … n−2 between its particles
+  // t and t + 1, and its XPBD step (Macklin et al. 2016, eq. 26) linearised at the current
+  // positions is one tridiagonal system in the multipliers' changes Δλ:
+  //   ((1 + γ)·J W Jᵀ + α̃) Δλ = −C − α̃·λ − γ·J·(x − x_prev),
+  //   (J W Jᵀ)_t,t = w_t + w_t+1,   (J W Jᵀ)_t−1,t = −w_t·(n_t−1 · n_t),
+  // n_t the unit direction of constraint t; then x += W Jᵀ Δλ. Solved exactly (the Thomas
+  // algorithm, linear in n) it is one Newton step on the whole chain: a stretch is removed along
+  // the row in one pass rather than creeping a spring further per Gauss–Seidel sweep, so the
+  // passes a cloth needs do not grow with its resolution. (Goldenthal et al. 2007 solve every
+  // inextensibility constraint of a cloth so, with a sparse direct solver; rows and columns are
+  // the grid's tridiagonal blocks of that system.) All rows are solved, then all columns: block
+  // Gauss–Seidel between the two. A row's particles lie in one stride of slots, so rows are
+  // vectorised across rows (gathers) and columns across columns (contiguous).
+
+  // A constraint of a chain through a fixed particle is swept spring by spring instead, twice per
+  // pass, red–black: between two pins a row is a taut string whose exact solve is near singular.
+  static constexpr int kFixedChainSweeps = 2;
+
+  // One pass: every row, then every column, each thread its share of them.
+  void solve_lines(Real h, bool first) {
+    const Family& rf = families_[row_family_];
+    const Family& cf = families_[col_family_];
+    const int parts = team_size();
+#pragma omp for schedule(static)
+    for (int part = 0; part < parts; ++part)
+      solve_rows(rf, h, rows_ * part / parts, rows_ * (part + 1) / parts, first);
+#pragma omp for schedule(static)
+    for (int part = 0; part < parts; ++part)
+      solve_columns(cf, h, grid_.stride * part / parts, grid_.stride * (part + 1) / parts, first);
+  }
+
+  // What a chain's constraint contributes to its system, from its two ends i and j: the unit
+  // direction n, the diagonal b and the right-hand side r without the α̃λ term. `live` false
+  // (both ends fixed, or a chain swept spring by spring) leaves r = 0: no change.
+  struct ChainRow {
+    Real nx, ny, nz, b, r;
+  };
+  static ChainRow chain_row(const Real* __restrict bx, const Real* __restrict by,
+                            const Real* __restrict bz, const Real* __restrict mx,
+                            const Real* __restrict my, const Real* __restrict mz,
+                            const Real* __restrict w, int i, int j, bool live, Real rest,
+                            Real alpha_tilde, Real gamma) {
+    const Real rx = mx[j] - mx[i], ry = my[j] - my[i], rz = mz[j] - mz[i];
+    const Real dx = (bx[j] - bx[i]) + rx, dy = (by[j] - by[i]) + ry, dz = (bz[j] - bz[i]) + rz;
+    const Real len = std::sqrt(dx * dx + dy * dy + dz * dz);
+    const Real inv = len > 0 ? 1 / len : Real(0);  // coincident ends: no direction
+    const Real ux = dx * inv, uy = dy * inv, uz = dz * inv;
+    live = live && w[i] + w[j] > 0;
+    return {ux, uy, uz, (1 + gamma) * (w[i] + w[j]) + alpha_tilde,
+            live ? -(len - rest) - gamma * (ux * rx + uy * ry + uz * rz) : Real(0)};
+  }
+
+  // Entries e and e + last·lanes end a chain's recurrences (no constraint before the first or
+  // after the last); rows and columns share the arrays, so each pass clears its own first.
+  void clear_chain_ends(int e, int last_entry) {
+    for (const int q : {e, last_entry}) {
+      chain_n_.x[q] = chain_n_.y[q] = chain_n_.z[q] = 0;
+      chain_f_[q] = chain_g_[q] = 0;
+      chain_beta_[q] = 1;
+    }
+  }
+
+  // One step of the forward elimination for constraint entry q after entry p (the previous
+  // constraint of the chain, or the zero entry before the first): f = e/β_p, β = b − f·e,
+  // g = r − f·g_p, kept as g/β; wi is the inverse mass of the particle the two share.
+  static void eliminate(const ChainRow& c, Real wi, Real gamma, Real alpha_lambda,
+                        Real* __restrict nx, Real* __restrict ny, Real* __restrict nz,
+                        Real* __restrict fe, Real* __restrict gb, Real* __restrict beta, int p,
+                        int q) {
+    const Real e = -(1 + gamma) * wi * (nx[p] * c.nx + ny[p] * c.ny + nz[p] * c.nz);
+    const Real f = e / beta[p];
+    const Real bq = c.b - f * e;
+    nx[q] = c.nx;
+    ny[q] = c.ny;
+    nz[q] = c.nz;
+    fe[q] = f;
+    beta[q] = bq;
+    gb[q] = (c.r - alpha_lambda - f * gb[p] * beta[p]) / bq;
+  }
+
+  // The back substitution for entry q, the next constraint's entry qn holding Δλ already (the
+  // entry after the last reads as zero): Δλ = g/β − f_next·Δλ_next, into gb and onto λ.
+  static Real substitute(Real* __restrict fe, Real* __restrict gb, Real* __restrict lambda,
+                         Real keep, int q, int qn) {
+    const Real dl = gb[q] - fe[qn] * gb[qn];
+    gb[q] = dl;
+    lambda[q] = keep * lambda[q] + dl;
+    return dl;
+  }
+
+  // The columns whose slot in a row is in [l0, l1), vectorised across columns (a row's slots
+  // are contiguous). Constraint t of column l (rows t and t + 1) has entry (t + 1)·stride + l;
+  // entry l (before the first) and the one after the last stay zero and end the recurrences.
+  void solve_columns(const Family& f, Real h, int l0, int l1, bool first) {
+    const int stride = grid_.stride;
+    const unsigned char* __restrict fixed = col_fixed_.data();
+    const Real *__restrict bx = base_.x.data(), *__restrict by = base_.y.data(),
+                           *__restrict bz = base_.z.data();
+    Real *__restrict mx = move_.x.data(), *__restrict my = move_.y.data(),
+                     *__restrict mz = move_.z.data();
+    Real *__restrict nx = chain_n_.x.data(), *__restrict ny = chain_n_.y.data(),
+                     *__restrict nz = chain_n_.z.data();
+    Real *__restrict fe = chain_f_.data(), *__restrict gb = chain_g_.data(),
+                     *__restrict beta = chain_beta_.data(), *__restrict lambda =
+                                                                chain_lambda_cols_.data();
+    const Real* __restrict w = inv_mass_.data();
+    const Real alpha_tilde = 1.0 / (f.stiffness * h * h);
+    const Real gamma = f.damping / (f.stiffness * h);  // as in sweep_colours
+    const Real rest = f.rest, keep = first ? Real(0) : Real(1);
+    for (int l = l0; l < l1; ++l) clear_chain_ends(l, rows_ * stride + l);
+    for (int t = 0; t + 1 < rows_; ++t) {
+#pragma omp simd
+      for (int l = l0; l < l1; ++l) {
+        const int i = t * stride + l, q = i + stride;  // particle (t, l), (t + 1, l); entry
+        const ChainRow c = chain_row(bx, by, bz, mx, my, mz, w, i, q, !fixed[l], rest,
+                                     alpha_tilde, gamma);
+        eliminate(c, w[i], gamma, alpha_tilde * keep * lambda[q], nx, ny, nz, fe, gb, beta, i,
+                  q);
+      }
+    }
+    for (int t = rows_ - 2; t >= 0; --t) {
+#pragma omp simd
+      for (int l = l0; l < l1; ++l) {
+        const int q = (t + 1) * stride + l, qn = q + stride;  // also particle t + 1 and t + 2
+        const Real dl = substitute(fe, gb, lambda, keep, q, qn), dn = gb[qn], wj = w[q];
+        mx[q] += wj * (nx[q] * dl - nx[qn] * dn);
+        my[q] += wj * (ny[q] * dl - ny[qn] * dn);
+        mz[q] += wj * (nz[q] * dl - nz[qn] * dn);
+      }
+    }
+#pragma omp simd
+    for (int l = l0; l < l1; ++l) {  // the top particle
+      const int q = stride + l;
+      mx[l] -= w[l] * nx[q] * gb[q];
+      my[l] -= w[l] * ny[q] * gb[q];
+      mz[l] -= w[l] * nz[q] * gb[q];
+    }
+    for (int l = l0; l < l1; ++l)
+      if (fixed[l]) sweep_chain(f, h, l, stride, rows_);
+  }
+
+  // The rows [r0, r1). Vectorised across rows only the recurrences, which then gather from
+  // rows a stride apart; what costs (directions, square roots) and the moves run along each
+  // row in its contiguous runs of one column residue, as the spring sweeps do. Constraint t of
+  // row r (columns t, t + 1) has entry (t + 1)·rows + r, so the recurrences' arrays are
+  // contiguous across rows; rows_n_, rows_b_, rows_r_ and rows_dl_ hold the rest by slot.
+  void solve_rows(const Family& f, Real h, int r0, int r1, bool first) {
+    const unsigned char* __restrict fixed = row_fixed_.data();
+    const int32_t* __restrict col_slot = col_slot_.data();
+    const Real *__restrict bx = base_.x.data(), *__restrict by = base_.y.data(),
+                           *__restrict bz = base_.z.data();
+    Real *__restrict mx = move_.x.data(), *__restrict my = move_.y.data(),
+                     *__restrict mz = move_.z.data();
+    Real *__restrict sx = rows_n_.x.data(), *__restrict sy = rows_n_.y.data(),
+                     *__restrict sz = rows_n_.z.data(), *__restrict sb = rows_b_.data(),
+                     *__restrict sr = rows_r_.data(), *__restrict sdl = rows_dl_.data();
+    Real *__restrict nx = chain_n_.x.data(), *__restrict ny = chain_n_.y.data(),
+                     *__restrict nz = chain_n_.z.data();
+    Real *__restrict fe = chain_f_.data(), *__restrict gb = chain_g_.data(),
+                     *__restrict beta = chain_beta_.data(), *__restrict lambda =
+                                                                chain_lambda_rows_.data();
+    const Real* __restrict w = inv_mass_.data();
+    const Real alpha_tilde = 1.0 / (f.stiffness * h * h);
+    const Real gamma = f.damping / (f.stiffness * h);  // as in sweep_colours
+    const Real rest = f.rest, keep = first ? Real(0) : Real(1);
+    for (int r = r0; r < r1; ++r) clear_chain_ends(r, cols_ * rows_ + r);
+    // Each constraint's direction, diagonal and right-hand side, by its first particle's slot.
+    for (int r = r0; r < r1; ++r) {
+      for (int b = 0; b < 4; ++b) {
+        const Run u = run_of(f, r, b);
+#pragma omp simd
+        for (int k = u.k_begin; k < u.k_end; ++k) {
+          const int i = u.i0 + k;
+          const ChainRow c = chain_row(bx, by, bz, mx, my, mz, w, i, u.j0 + k, !fixed[r], rest,
+                                       alpha_tilde, gamma);
+          sx[i] = c.nx;
+          sy[i] = c.ny;
+          sz[i] = c.nz;
+          sb[i] = c.b;
+          sr[i] = c.r;
+        }
+      }
+    }
+    for (int t = 0; t + 1 < cols_; ++t) {
+      const int o = col_slot[t], q0 = (t + 1) * rows_;
+#pragma omp simd
+      for (int r = r0; r < r1; ++r) {
+        const int i = r * grid_.stride + o, q = q0 + r;
+        const ChainRow c{sx[i], sy[i], sz[i], sb[i], sr[i]};
+        eliminate(c, w[i], gamma, alpha_tilde * keep * lambda[q], nx, ny, nz, fe, gb, beta,
+                  q - rows_, q);
+      }
+    }
+    for (int t = cols_ - 2; t >= 0; --t) {
+      const int o = col_slot[t], q0 = (t + 1) * rows_;
+#pragma omp simd
+      for (int r = r0; r < r1; ++r) {
+        const int q = q0 + r;
+        sdl[r * grid_.stride + o] = substitute(fe, gb, lambda, keep, q, q + rows_);
+      }
+    }
+    // The moves, constraint by constraint: a run's constraints share no particle.
+    for (int r = r0; r < r1; ++r) {
+      for (int b = 0; b < 4; ++b) {
+        const Run u = run_of(f, r, b);
+#pragma omp simd
+        for (int k = u.k_begin; k < u.k_end; ++k) {
+          const int i = u.i0 + k, j = u.j0 + k;
+          const Real s = sdl[i];
+          mx[i] -= w[i] * s * sx[i];
+          my[i] -= w[i] * s * sy[i];
+          mz[i] -= w[i] * s * sz[i];
+          mx[j] += w[j] * s * sx[i];
+          my[j] += w[j] * s * sy[i];
+          mz[j] += w[j] * s * sz[i];
+        }
+      }
+      if (fixed[r]) sweep_chain(f, h, r * grid_.stride, 0, cols_);
+    }
+  }
+
+  // Sweeps the chain whose element t is at slot start + t·step (step 0: a row, by col_slot_)
+  // spring by spring, kFixedChainSweeps times red–black, each projection from λ = 0.
+  void sweep_chain(const Family& f, Real h, int start, int step, int count) {
+    const Real alpha_tilde = 1.0 / (f.stiffness * h * h);
+    const Real gamma = f.damping / (f.stiffness * h);
+    auto at = [&](int t) { return start + (step > 0 ? t * step : col_slot_[t]); };
+    for (int sweep = 0; sweep < kFixedChainSweeps; ++sweep)
+      for (int colour = 0; colour < 2; ++colour)
+        for (int t = colour; t + 1 < count; t += 2)
+          xpbd_project<false, true>(base_.x.data(), base_.y.data(), base_.z.data(),
+                                    move_.x.data(), move_.y.data(), move_.z.data(),
+                                    inv_mass_.data(), at(t), at(t + 1), Real(f.rest),
+                                    alpha_tilde, gamma, Real(0));
   }
 
   // Long-range attachments on every free particle, pin after pin (project_attachment in
@@ -471,6 +781,18 @@ class GridXpbd final : public Solver {
   LongRange attachments_;
   std::vector<int32_t> pin_slot_;       ///< the attachments' pins, as slots
   std::vector<Real> attachment_limit_;  ///< per pin, per slot, m
+  // Line passes (solver.line_passes).
+  int line_passes_ = 0;               ///< as asked
+  bool lines_ = false;                ///< whether they run now (see prepare_lines)
+  int row_family_ = -1, col_family_ = -1;  ///< the structural families along rows and columns
+  std::vector<int32_t> col_slot_;     ///< slot of column c within a row
+  std::vector<int32_t> row_start_;    ///< slot of row r's first slot, r·stride
+  std::vector<unsigned char> row_fixed_, col_fixed_;  ///< chain holds a fixed particle: swept
+  Soa<Real> chain_n_;                 ///< per chain entry: the constraint's direction
+  std::vector<Real> chain_f_, chain_g_, chain_beta_;  ///< Thomas: e/β of the last, g/β, β
+  std::vector<Real> chain_lambda_rows_, chain_lambda_cols_;  ///< λ this substep, per entry
+  Soa<Real> rows_n_;                         ///< per slot: its row constraint's direction
+  std::vector<Real> rows_b_, rows_r_, rows_dl_;  ///< per slot: its diagonal, right side, Δλ
 };
 
 }  // namespace
