@@ -37,6 +37,7 @@ struct BenchOptions {
   double max_updates = 3e10;  // skip runs estimated above this (about five minutes)
   bool search = true;         // position-based methods: find the fewest substeps that pass
   std::vector<int> stiff_sweeps{0, 2, 5, 10, 20};  // xpbd: tried with the substep search
+  std::vector<int> line_passes{2, 4, 6, 8};         // xpbd: tried too (0: none, as sweeps)
   std::string out = "bench-results";
 };
 
@@ -63,6 +64,7 @@ struct Row {
   std::string scene, method, precision, status = "ok";
   int n = 0, threads = 0, substeps = 0;
   int stiff_sweeps = 0;  ///< xpbd's solver.stiff_sweeps
+  int line_passes = 0;   ///< xpbd's solver.line_passes
   int64_t particles = 0, frames = 0;
   double setup_ms = 0, ms_median = 0, ms_p10 = 0, ms_p90 = 0, rate = 0;
   double strain_last_second = 0, strain_last = 0, strain_p99 = 0, penetration = 0;
@@ -94,7 +96,7 @@ bool rests_on(const Simulation& sim, const Collider& sphere) {
 
 // One run; `substeps` 0 leaves the count to the method.
 Row bench_one(const BenchOptions& o, const std::string& scene, int n, const Variant& v, int threads,
-              int substeps, int stiff_sweeps) {
+              int substeps, int stiff_sweeps, int line_passes) {
   Row row;
   row.scene = scene;
   row.n = n;
@@ -112,7 +114,9 @@ Row bench_one(const BenchOptions& o, const std::string& scene, int n, const Vari
   if (long_range) sets.push_back("cloth.long_range=true");
   if (substeps > 0) sets.push_back("solver.substeps=" + std::to_string(substeps));
   if (stiff_sweeps > 0) sets.push_back("solver.stiff_sweeps=" + std::to_string(stiff_sweeps));
+  if (line_passes > 0) sets.push_back("solver.line_passes=" + std::to_string(line_passes));
   row.stiff_sweeps = stiff_sweeps;
+  row.line_passes = line_passes;
   std::optional<Simulation> sim;
   try {
     const SceneDef def = io::load_scene(file, sets);
@@ -161,7 +165,7 @@ Row bench_one(const BenchOptions& o, const std::string& scene, int n, const Vari
 
 // What the search settled on for one scene, size and variant.
 struct Found {
-  int substeps = 0, stiff_sweeps = 0;
+  int substeps = 0, stiff_sweeps = 0, line_passes = 0;
 };
 
 // Whether run a is the better one to report: passing beats failing, then the faster of two
@@ -172,41 +176,59 @@ bool better(const Row& a, const Row& b) {
 }
 
 // The run to report: for a searched method, the cheapest run that meets the bar among, for each
-// count of stiff sweeps, the fewest substeps on the ladder that do (found once per scene and
-// size, on the first thread count, and reused: the results are the same for any thread count);
-// otherwise the method's own count.
+// count of line passes and then of stiff sweeps, the fewest substeps on the ladder that do
+// (found once per scene and size, on the first thread count, and reused: the results are the
+// same for any thread count); otherwise the method's own count.
 Row bench_best(const BenchOptions& o, const std::string& scene, int n, const Variant& v,
                int threads, Found& found) {
-  if (!o.search || !searchable(v.method)) return bench_one(o, scene, n, v, threads, 0, 0);
+  if (!o.search || !searchable(v.method)) return bench_one(o, scene, n, v, threads, 0, 0, 0);
   if (found.substeps > 0)
-    return bench_one(o, scene, n, v, threads, found.substeps, found.stiff_sweeps);
-  std::optional<Row> best;
+    return bench_one(o, scene, n, v, threads, found.substeps, found.stiff_sweeps,
+                     found.line_passes);
+  // Each count of line passes (not on hang, whose pins have no attachments: line passes need
+  // them), then each of stiff sweeps, both ascending: each costs more per substep than the last.
+  struct Try {
+    int stiff_sweeps, line_passes;
+  };
+  std::vector<Try> kinds;
+  if (scene != "hang")
+    for (int lines : o.line_passes)
+      if (lines > 0) kinds.push_back({0, lines});
+  for (int sweeps : o.stiff_sweeps) kinds.push_back({sweeps, 0});
+  std::optional<Row> best, best_of_kind[2];  // overall; passing, of sweeps and of lines
   int tries = 0;
-  for (int sweeps : o.stiff_sweeps) {  // ascending: each costs more per substep than the last
+  for (const Try& kind : kinds) {
+    std::optional<Row>& same = best_of_kind[kind.line_passes > 0];
     int tries_here = 0;
+    double ms_per_substep = 0.0;  // of this count, from its last run
     for (int substeps : kSubstepLadder) {
       if (interrupt_signal()) break;
-      // As many substeps with more sweeps each cannot be cheaper than a run that passed.
-      if (best && best->quality && substeps >= best->substeps) break;
-      Row r = bench_one(o, scene, n, v, threads, substeps, sweeps);
+      // As many substeps with more sweeps or passes each cannot be cheaper than a run of the
+      // same kind that passed, nor, by the cost per substep measured, than any that did.
+      if (same && substeps >= same->substeps) break;
+      if (best && best->quality && ms_per_substep * substeps >= best->ms_median) break;
+      Row r = bench_one(o, scene, n, v, threads, substeps, kind.stiff_sweeps, kind.line_passes);
       ++tries;
       ++tries_here;
       const bool skipped = r.status.rfind("skipped", 0) == 0;
       if (skipped && tries_here > 1) break;  // past the work budget
+      if (!skipped && r.substeps > 0) ms_per_substep = r.ms_median / r.substeps;
       if (!best || (!skipped && better(r, *best))) best = r;
+      if (r.quality && (!same || better(r, *same))) same = r;
       if (r.quality || r.status != "ok") break;
     }
   }
-  if (!best) return bench_one(o, scene, n, v, threads, 0, 0);  // interrupted before any run
+  if (!best) return bench_one(o, scene, n, v, threads, 0, 0, 0);  // interrupted before any run
   best->tries = tries;
-  if (best->substeps > 0) found = {best->substeps, best->stiff_sweeps};
+  if (best->substeps > 0) found = {best->substeps, best->stiff_sweeps, best->line_passes};
   return *best;
 }
 
 void print_table(const std::vector<Row>& rows) {
-  std::printf("%-8s %5s %-11s %-6s %3s %8s %6s %10s %9s %12s %6s %8s %8s %8s %8s %s\n", "scene",
-              "N", "method", "prec", "thr", "substeps", "sweeps", "ms/frame", "p10-p90",
-              "part·sub/s", "B/part", "strain1s", "strain", "p99", "penetr.", "quality");
+  std::printf("%-8s %5s %-11s %-6s %3s %8s %6s %5s %10s %9s %12s %6s %8s %8s %8s %8s %s\n",
+              "scene", "N", "method", "prec", "thr", "substeps", "sweeps", "lines", "ms/frame",
+              "p10-p90", "part·sub/s", "B/part", "strain1s", "strain", "p99", "penetr.",
+              "quality");
   for (const Row& r : rows) {
     if (r.status.rfind("skipped", 0) == 0) {
       std::printf("%-8s %5d %-11s %-6s %3d  %s\n", r.scene.c_str(), r.n, r.method.c_str(),
@@ -216,10 +238,10 @@ void print_table(const std::vector<Row>& rows) {
     char spread[32];
     std::snprintf(spread, sizeof spread, "%.2f-%.2f", r.ms_p10, r.ms_p90);
     std::printf(
-        "%-8s %5d %-11s %-6s %3d %8d %6d %10.3f %9s %12.3g %6.0f %7.2f%% %7.2f%% %7.2f%% "
+        "%-8s %5d %-11s %-6s %3d %8d %6d %5d %10.3f %9s %12.3g %6.0f %7.2f%% %7.2f%% %7.2f%% "
         "%7.2f%% %s\n",
         r.scene.c_str(), r.n, r.method.c_str(), r.precision.c_str(), r.threads, r.substeps,
-        r.stiff_sweeps, r.ms_median, spread, r.rate, r.memory.per_particle(r.particles),
+        r.stiff_sweeps, r.line_passes, r.ms_median, spread, r.rate, r.memory.per_particle(r.particles),
         100 * r.strain_last_second, 100 * r.strain_last, 100 * r.strain_p99, 100 * r.penetration,
         r.quality ? "yes" : (r.status == "ok" ? "no" : r.status.c_str()));
   }
@@ -235,6 +257,7 @@ nlohmann::json to_json(const Row& r) {
           {"particles", r.particles},
           {"substeps_per_frame", r.substeps},
           {"stiff_sweeps", r.stiff_sweeps},
+          {"line_passes", r.line_passes},
           {"frames", r.frames},
           {"setup_ms", r.setup_ms},
           {"ms_per_frame_median", r.ms_median},
@@ -312,9 +335,10 @@ int bench(BenchOptions o) {
       return kExitBadInput;
     }
   }
-  std::sort(o.stiff_sweeps.begin(), o.stiff_sweeps.end());
-  o.stiff_sweeps.erase(std::unique(o.stiff_sweeps.begin(), o.stiff_sweeps.end()),
-                       o.stiff_sweeps.end());
+  for (std::vector<int>* counts : {&o.stiff_sweeps, &o.line_passes}) {
+    std::sort(counts->begin(), counts->end());
+    counts->erase(std::unique(counts->begin(), counts->end()), counts->end());
+  }
   install_interrupt_handlers();
   std::vector<Row> rows;
   const int64_t total =
@@ -373,6 +397,11 @@ std::function<int()> add_bench_command(CLI::App& app) {
   cmd->add_option("--stiff-sweeps", o->stiff_sweeps,
                   "xpbd: the solver.stiff_sweeps counts the search tries, each with its own "
                   "substep search; the cheapest run that meets the bar is reported")
+      ->delimiter(',')
+      ->check(CLI::Range(0, 10000));
+  cmd->add_option("--line-passes", o->line_passes,
+                  "xpbd: the solver.line_passes counts the search tries too, each with its own "
+                  "substep search (0: none; not on hang, whose pins have no attachments)")
       ->delimiter(',')
       ->check(CLI::Range(0, 10000));
   cmd->add_flag("!--no-search", o->search,
