@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "constraints.h"
+#include "drape/collider.h"
 #include "drape/simulation.h"
 #include "forces.h"
 
@@ -85,12 +86,33 @@ void Contacts(benchmark::State& st) {
 }
 BENCHMARK(Contacts)->Arg(32)->Arg(128)->Arg(256);
 
-void Frame(benchmark::State& st) {
-  Simulation sim(grid(static_cast<int>(st.range(0))));
-  for (auto _ : st) sim.step();
-  st.SetItemsProcessed(st.iterations() * sim.model().size());
+// The xpbd contact pass (PositionContact, branch-free) over an N×N grid in structure-of-arrays
+// storage against a sphere, in double or float. Its cost does not depend on how many particles
+// touch: every slot is evaluated.
+template <typename Real>
+void PositionContacts(benchmark::State& st) {
+  const int n = static_cast<int>(st.range(0));
+  const Real spacing = Real(2) / static_cast<Real>(n - 1);
+  std::vector<Real> bx(n * n), by(n * n, Real(0.45)), bz(n * n), w(n * n, Real(1));
+  for (int i = 0; i < n * n; ++i) {
+    bx[i] = static_cast<Real>(i % n) * spacing - Real(1);
+    bz[i] = static_cast<Real>(i / n) * spacing - Real(1);
+  }
+  std::vector<Real> mx(n * n, Real(0)), my(n * n, Real(-0.01)), mz(n * n, Real(0));
+  ColliderDef sphere;
+  sphere.friction = 0.4;
+  const PositionContact<Real> contact(make_collider(sphere));
+  for (auto _ : st) {
+#pragma omp simd
+    for (int i = 0; i < n * n; ++i)
+      contact.apply(w[i] > Real(0), bx[i] + mx[i], by[i] + my[i], bz[i] + mz[i], mx[i], my[i],
+                    mz[i]);
+    benchmark::DoNotOptimize(mx.data());
+  }
+  st.SetItemsProcessed(st.iterations() * n * n);
 }
-BENCHMARK(Frame)->Arg(32)->Arg(128);
+BENCHMARK(PositionContacts<double>)->Arg(128)->Arg(256);
+BENCHMARK(PositionContacts<float>)->Arg(128)->Arg(256);
 
 // One frame of xpbd at 20 substeps with long-range attachments (hang-lr), in each precision,
 // with and without stiff sweeps (each a sweep of the structural springs alone).
@@ -108,6 +130,25 @@ void XpbdFrame(benchmark::State& st) {
 BENCHMARK(XpbdFrame)
     ->ArgsProduct({{128, 256}, {0, 1}, {0, 3}})
     ->ArgNames({"n", "single", "stiff_sweeps"});
+
+// One frame of xpbd at 4 substeps with line passes (each an exact solve of every row and column
+// of structural springs, after the attachments), on the same cloth; items are particles ×
+// substeps × passes.
+void XpbdLinesFrame(benchmark::State& st) {
+  SceneDef def = grid(static_cast<int>(st.range(0)));
+  def.solver.method = Method::xpbd;
+  def.solver.precision = st.range(1) ? Precision::f32 : Precision::f64;
+  def.solver.substeps = 4;
+  def.solver.line_passes = static_cast<int>(st.range(2));
+  def.cloth.long_range.enabled = true;
+  Simulation sim(def);
+  for (auto _ : st) sim.step();
+  st.SetItemsProcessed(st.iterations() * sim.model().size() * def.solver.substeps *
+                       def.solver.line_passes);
+}
+BENCHMARK(XpbdLinesFrame)
+    ->ArgsProduct({{128, 256}, {0, 1}, {2, 6}})
+    ->ArgNames({"n", "single", "line_passes"});
 
 }  // namespace
 }  // namespace drape
