@@ -147,7 +147,7 @@ void XpbdLinesFrame(benchmark::State& st) {
                        def.solver.line_passes);
 }
 BENCHMARK(XpbdLinesFrame)
-    ->ArgsProduct({{128, 256}, {0, 1}, {2, 6}})
+    ->ArgsProduct({{64, 128, 256}, {0, 1}, {2, 6}})
     ->ArgNames({"n", "single", "line_passes"});
 
 }  // namespace

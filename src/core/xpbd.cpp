@@ -88,6 +88,25 @@ struct Family {
   SpringKind kind = SpringKind::structural;
 };
 
+/// The line passes' arrays for one direction (rows or columns), by chain entry: constraint t of
+/// chain l has entry (t + 1)·lanes + l, so they are contiguous across chains; the entries before
+/// the first constraint and after the last are never written and end the recurrences.
+template <typename Real>
+struct ChainScratch {
+  Soa<Real> n;                   ///< the constraint's unit direction
+  std::vector<Real> f, g, inv_beta;  ///< Thomas: e/β of the entry before, g (then Δλ), 1/β
+  std::vector<Real> lambda;      ///< λ accumulated over this substep's passes
+
+  void prepare(size_t entries) {
+    n.resize(entries);
+    f.assign(entries, 0.0);
+    g.assign(entries, 0.0);
+    inv_beta.assign(entries, 1.0);
+    lambda.assign(entries, 0.0);
+  }
+  int64_t bytes() const { return heap_bytes(n.x, n.y, n.z, f, g, inv_beta, lambda); }
+};
+
 template <typename Real>
 class GridXpbd final : public Solver {
  public:
@@ -195,9 +214,9 @@ class GridXpbd final : public Solver {
     return heap_bytes(base_.x, base_.y, base_.z, move_.x, move_.y, move_.z, v_.x, v_.y, v_.z,
                       accel_.x, accel_.y, accel_.z, inv_mass_, scratch_, families_, lambda_,
                       attachments_.pins(), pin_slot_, attachment_limit_, col_slot_, row_start_,
-                      row_fixed_, col_fixed_, chain_n_.x, chain_n_.y, chain_n_.z, chain_f_,
-                      chain_g_, chain_beta_, chain_lambda_rows_, chain_lambda_cols_, rows_n_.x,
-                      rows_n_.y, rows_n_.z, rows_b_, rows_r_, rows_dl_);
+                      row_fixed_, col_fixed_, rows_n_.x, rows_n_.y, rows_n_.z, rows_b_, rows_r_,
+                      rows_dl_) +
+           row_chains_.bytes() + col_chains_.bytes();
   }
 
  private:
@@ -275,14 +294,10 @@ class GridXpbd final : public Solver {
       row_fixed_[i / cols_] = 1;
       col_fixed_[col_slot_[i % cols_]] = 1;
     }
-    // Entry (t + 1)·lanes + l for constraint t of lane l, and one before and after each chain.
-    const size_t entries = std::max(size_t(rows_ + 1) * grid_.stride, size_t(cols_ + 1) * rows_);
-    chain_n_.resize(entries);
-    chain_f_.assign(entries, 0.0);
-    chain_g_.assign(entries, 0.0);
-    chain_beta_.assign(entries, 1.0);
-    chain_lambda_rows_.assign(entries, 0.0);
-    chain_lambda_cols_.assign(entries, 0.0);
+    // Each direction its own arrays: rows and columns are shared out to threads differently,
+    // and scratch that changed hands every pass would cross between the cores' caches.
+    row_chains_.prepare(size_t(cols_ + 1) * rows_);
+    col_chains_.prepare(size_t(rows_ + 1) * grid_.stride);
     const int32_t slots = grid_.size();
     rows_n_.resize(slots);
     rows_b_.assign(slots, 1.0);
@@ -508,40 +523,31 @@ class GridXpbd final : public Solver {
             live ? -(len - rest) - gamma * (ux * rx + uy * ry + uz * rz) : Real(0)};
   }
 
-  // Entries e and e + last·lanes end a chain's recurrences (no constraint before the first or
-  // after the last); rows and columns share the arrays, so each pass clears its own first.
-  void clear_chain_ends(int e, int last_entry) {
-    for (const int q : {e, last_entry}) {
-      chain_n_.x[q] = chain_n_.y[q] = chain_n_.z[q] = 0;
-      chain_f_[q] = chain_g_[q] = 0;
-      chain_beta_[q] = 1;
-    }
-  }
-
   // One step of the forward elimination for constraint entry q after entry p (the previous
   // constraint of the chain, or the zero entry before the first): f = e/β_p, β = b − f·e,
-  // g = r − f·g_p, kept as g/β; wi is the inverse mass of the particle the two share.
+  // g = r − f·g_p; wi is the inverse mass of the particle the two share. One division a step:
+  // the recurrence's latency, not its arithmetic, is what bounds it.
   static void eliminate(const ChainRow& c, Real wi, Real gamma, Real alpha_lambda,
                         Real* __restrict nx, Real* __restrict ny, Real* __restrict nz,
-                        Real* __restrict fe, Real* __restrict gb, Real* __restrict beta, int p,
+                        Real* __restrict fe, Real* __restrict g, Real* __restrict inv_beta, int p,
                         int q) {
     const Real e = -(1 + gamma) * wi * (nx[p] * c.nx + ny[p] * c.ny + nz[p] * c.nz);
-    const Real f = e / beta[p];
-    const Real bq = c.b - f * e;
+    const Real f = e * inv_beta[p];
     nx[q] = c.nx;
     ny[q] = c.ny;
     nz[q] = c.nz;
     fe[q] = f;
-    beta[q] = bq;
-    gb[q] = (c.r - alpha_lambda - f * gb[p] * beta[p]) / bq;
+    inv_beta[q] = 1 / (c.b - f * e);
+    g[q] = c.r - alpha_lambda - f * g[p];
   }
 
   // The back substitution for entry q, the next constraint's entry qn holding Δλ already (the
-  // entry after the last reads as zero): Δλ = g/β − f_next·Δλ_next, into gb and onto λ.
-  static Real substitute(Real* __restrict fe, Real* __restrict gb, Real* __restrict lambda,
-                         Real keep, int q, int qn) {
-    const Real dl = gb[q] - fe[qn] * gb[qn];
-    gb[q] = dl;
+  // entry after the last reads as zero): Δλ = g/β − f_next·Δλ_next, into g and onto λ.
+  static Real substitute(Real* __restrict fe, Real* __restrict g,
+                         const Real* __restrict inv_beta, Real* __restrict lambda, Real keep,
+                         int q, int qn) {
+    const Real dl = g[q] * inv_beta[q] - fe[qn] * g[qn];
+    g[q] = dl;
     lambda[q] = keep * lambda[q] + dl;
     return dl;
   }
@@ -556,23 +562,22 @@ class GridXpbd final : public Solver {
                            *__restrict bz = base_.z.data();
     Real *__restrict mx = move_.x.data(), *__restrict my = move_.y.data(),
                      *__restrict mz = move_.z.data();
-    Real *__restrict nx = chain_n_.x.data(), *__restrict ny = chain_n_.y.data(),
-                     *__restrict nz = chain_n_.z.data();
-    Real *__restrict fe = chain_f_.data(), *__restrict gb = chain_g_.data(),
-                     *__restrict beta = chain_beta_.data(), *__restrict lambda =
-                                                                chain_lambda_cols_.data();
+    ChainScratch<Real>& cs = col_chains_;
+    Real *__restrict nx = cs.n.x.data(), *__restrict ny = cs.n.y.data(),
+                     *__restrict nz = cs.n.z.data();
+    Real *__restrict fe = cs.f.data(), *__restrict gb = cs.g.data(),
+                     *__restrict inv_beta = cs.inv_beta.data(), *__restrict lambda = cs.lambda.data();
     const Real* __restrict w = inv_mass_.data();
     const Real alpha_tilde = 1.0 / (f.stiffness * h * h);
     const Real gamma = f.damping / (f.stiffness * h);  // as in sweep_colours
     const Real rest = f.rest, keep = first ? Real(0) : Real(1);
-    for (int l = l0; l < l1; ++l) clear_chain_ends(l, rows_ * stride + l);
     for (int t = 0; t + 1 < rows_; ++t) {
 #pragma omp simd
       for (int l = l0; l < l1; ++l) {
         const int i = t * stride + l, q = i + stride;  // particle (t, l), (t + 1, l); entry
         const ChainRow c = chain_row(bx, by, bz, mx, my, mz, w, i, q, !fixed[l], rest,
                                      alpha_tilde, gamma);
-        eliminate(c, w[i], gamma, alpha_tilde * keep * lambda[q], nx, ny, nz, fe, gb, beta, i,
+        eliminate(c, w[i], gamma, alpha_tilde * keep * lambda[q], nx, ny, nz, fe, gb, inv_beta, i,
                   q);
       }
     }
@@ -580,7 +585,7 @@ class GridXpbd final : public Solver {
 #pragma omp simd
       for (int l = l0; l < l1; ++l) {
         const int q = (t + 1) * stride + l, qn = q + stride;  // also particle t + 1 and t + 2
-        const Real dl = substitute(fe, gb, lambda, keep, q, qn), dn = gb[qn], wj = w[q];
+        const Real dl = substitute(fe, gb, inv_beta, lambda, keep, q, qn), dn = gb[qn], wj = w[q];
         mx[q] += wj * (nx[q] * dl - nx[qn] * dn);
         my[q] += wj * (ny[q] * dl - ny[qn] * dn);
         mz[q] += wj * (nz[q] * dl - nz[qn] * dn);
@@ -612,16 +617,15 @@ class GridXpbd final : public Solver {
     Real *__restrict sx = rows_n_.x.data(), *__restrict sy = rows_n_.y.data(),
                      *__restrict sz = rows_n_.z.data(), *__restrict sb = rows_b_.data(),
                      *__restrict sr = rows_r_.data(), *__restrict sdl = rows_dl_.data();
-    Real *__restrict nx = chain_n_.x.data(), *__restrict ny = chain_n_.y.data(),
-                     *__restrict nz = chain_n_.z.data();
-    Real *__restrict fe = chain_f_.data(), *__restrict gb = chain_g_.data(),
-                     *__restrict beta = chain_beta_.data(), *__restrict lambda =
-                                                                chain_lambda_rows_.data();
+    ChainScratch<Real>& cs = row_chains_;
+    Real *__restrict nx = cs.n.x.data(), *__restrict ny = cs.n.y.data(),
+                     *__restrict nz = cs.n.z.data();
+    Real *__restrict fe = cs.f.data(), *__restrict gb = cs.g.data(),
+                     *__restrict inv_beta = cs.inv_beta.data(), *__restrict lambda = cs.lambda.data();
     const Real* __restrict w = inv_mass_.data();
     const Real alpha_tilde = 1.0 / (f.stiffness * h * h);
     const Real gamma = f.damping / (f.stiffness * h);  // as in sweep_colours
     const Real rest = f.rest, keep = first ? Real(0) : Real(1);
-    for (int r = r0; r < r1; ++r) clear_chain_ends(r, cols_ * rows_ + r);
     // Each constraint's direction, diagonal and right-hand side, by its first particle's slot.
     for (int r = r0; r < r1; ++r) {
       for (int b = 0; b < 4; ++b) {
@@ -645,7 +649,7 @@ class GridXpbd final : public Solver {
       for (int r = r0; r < r1; ++r) {
         const int i = r * grid_.stride + o, q = q0 + r;
         const ChainRow c{sx[i], sy[i], sz[i], sb[i], sr[i]};
-        eliminate(c, w[i], gamma, alpha_tilde * keep * lambda[q], nx, ny, nz, fe, gb, beta,
+        eliminate(c, w[i], gamma, alpha_tilde * keep * lambda[q], nx, ny, nz, fe, gb, inv_beta,
                   q - rows_, q);
       }
     }
@@ -654,7 +658,7 @@ class GridXpbd final : public Solver {
 #pragma omp simd
       for (int r = r0; r < r1; ++r) {
         const int q = q0 + r;
-        sdl[r * grid_.stride + o] = substitute(fe, gb, lambda, keep, q, q + rows_);
+        sdl[r * grid_.stride + o] = substitute(fe, gb, inv_beta, lambda, keep, q, q + rows_);
       }
     }
     // The moves, constraint by constraint: a run's constraints share no particle.
@@ -788,9 +792,7 @@ class GridXpbd final : public Solver {
   std::vector<int32_t> col_slot_;     ///< slot of column c within a row
   std::vector<int32_t> row_start_;    ///< slot of row r's first slot, r·stride
   std::vector<unsigned char> row_fixed_, col_fixed_;  ///< chain holds a fixed particle: swept
-  Soa<Real> chain_n_;                 ///< per chain entry: the constraint's direction
-  std::vector<Real> chain_f_, chain_g_, chain_beta_;  ///< Thomas: e/β of the last, g/β, β
-  std::vector<Real> chain_lambda_rows_, chain_lambda_cols_;  ///< λ this substep, per entry
+  ChainScratch<Real> row_chains_, col_chains_;
   Soa<Real> rows_n_;                         ///< per slot: its row constraint's direction
   std::vector<Real> rows_b_, rows_r_, rows_dl_;  ///< per slot: its diagonal, right side, Δλ
 };
