@@ -399,12 +399,19 @@ class GridXpbd final : public Solver {
       if (f.stiffness >= stiffest_) sweep_colours(f, h, nullptr, true);
   }
 
+  // A family's XPBD compliance α̃ = 1/(k·h²) and damping γ = α̃·β·h²/h = c/(k·h) with β = c
+  // (N·s/m) for a substep of h (Macklin et al. 2016, eq. 26).
+  struct Compliance {
+    Real alpha_tilde, gamma;
+  };
+  static Compliance compliance(const Family& f, Real h) {
+    return {Real(1.0 / (f.stiffness * h * h)), Real(f.damping / (f.stiffness * h))};
+  }
+
   // Both colours of family f in a substep of h; with λ (several iterations) accumulated in
   // `lambda`, from zero when `first`.
   void sweep_colours(const Family& f, Real h, Real* lambda, bool first) {
-    const Real alpha_tilde = 1.0 / (f.stiffness * h * h);
-    // β = c (N·s/m): γ = α̃·β·h²/h = c/(k·h) (Macklin et al. 2016, eq. 26).
-    const Real gamma = f.damping / (f.stiffness * h);
+    const auto [alpha_tilde, gamma] = compliance(f, h);
     for (int colour = 0; colour < 2; ++colour) {
       if (lambda == nullptr)
         sweep_family<false>(f, colour, alpha_tilde, gamma, nullptr, true);
@@ -568,8 +575,7 @@ class GridXpbd final : public Solver {
     Real *__restrict fe = cs.f.data(), *__restrict gb = cs.g.data(),
                      *__restrict inv_beta = cs.inv_beta.data(), *__restrict lambda = cs.lambda.data();
     const Real* __restrict w = inv_mass_.data();
-    const Real alpha_tilde = 1.0 / (f.stiffness * h * h);
-    const Real gamma = f.damping / (f.stiffness * h);  // as in sweep_colours
+    const auto [alpha_tilde, gamma] = compliance(f, h);
     const Real rest = f.rest, keep = first ? Real(0) : Real(1);
     for (int t = 0; t + 1 < rows_; ++t) {
 #pragma omp simd
@@ -623,8 +629,7 @@ class GridXpbd final : public Solver {
     Real *__restrict fe = cs.f.data(), *__restrict gb = cs.g.data(),
                      *__restrict inv_beta = cs.inv_beta.data(), *__restrict lambda = cs.lambda.data();
     const Real* __restrict w = inv_mass_.data();
-    const Real alpha_tilde = 1.0 / (f.stiffness * h * h);
-    const Real gamma = f.damping / (f.stiffness * h);  // as in sweep_colours
+    const auto [alpha_tilde, gamma] = compliance(f, h);
     const Real rest = f.rest, keep = first ? Real(0) : Real(1);
     // Each constraint's direction, diagonal and right-hand side, by its first particle's slot.
     for (int r = r0; r < r1; ++r) {
@@ -684,8 +689,7 @@ class GridXpbd final : public Solver {
   // Sweeps the chain whose element t is at slot start + t·step (step 0: a row, by col_slot_)
   // spring by spring, kFixedChainSweeps times red–black, each projection from λ = 0.
   void sweep_chain(const Family& f, Real h, int start, int step, int count) {
-    const Real alpha_tilde = 1.0 / (f.stiffness * h * h);
-    const Real gamma = f.damping / (f.stiffness * h);
+    const auto [alpha_tilde, gamma] = compliance(f, h);
     auto at = [&](int t) { return start + (step > 0 ? t * step : col_slot_[t]); };
     for (int sweep = 0; sweep < kFixedChainSweeps; ++sweep)
       for (int colour = 0; colour < 2; ++colour)
