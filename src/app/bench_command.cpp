@@ -241,8 +241,9 @@ void print_table(const std::vector<Row>& rows) {
         "%-8s %5d %-11s %-6s %3d %8d %6d %5d %10.3f %9s %12.3g %6.0f %7.2f%% %7.2f%% %7.2f%% "
         "%7.2f%% %s\n",
         r.scene.c_str(), r.n, r.method.c_str(), r.precision.c_str(), r.threads, r.substeps,
-        r.stiff_sweeps, r.line_passes, r.ms_median, spread, r.rate, r.memory.per_particle(r.particles),
-        100 * r.strain_last_second, 100 * r.strain_last, 100 * r.strain_p99, 100 * r.penetration,
+        r.stiff_sweeps, r.line_passes, r.ms_median, spread, r.rate,
+        r.memory.per_particle(r.particles), 100 * r.strain_last_second, 100 * r.strain_last,
+        100 * r.strain_p99, 100 * r.penetration,
         r.quality ? "yes" : (r.status == "ok" ? "no" : r.status.c_str()));
   }
 }

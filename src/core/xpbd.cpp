@@ -429,7 +429,8 @@ class GridXpbd final : public Solver {
     // Columns cs = 4k + b in [shift, shift + span), partners cs + dc at residue b2, slot k + carry.
     const int span = cols_ - std::abs(f.dc);
     const int t = b + f.dc + 4, b2 = t & 3, carry = t / 4 - 1;
-    return {r * grid_.stride + b * grid_.block, (r + f.dr) * grid_.stride + b2 * grid_.block + carry,
+    return {r * grid_.stride + b * grid_.block,
+            (r + f.dr) * grid_.stride + b2 * grid_.block + carry,
             std::max(0, (f.shift - b + 3) / 4), std::max(0, (f.shift + span - b + 3) / 4)};
   }
 
@@ -489,8 +490,8 @@ class GridXpbd final : public Solver {
   // passes a cloth needs do not grow with its resolution. (Goldenthal et al. 2007 solve every
   // inextensibility constraint of a cloth so, with a sparse direct solver; rows and columns are
   // the grid's tridiagonal blocks of that system.) All rows are solved, then all columns: block
-  // Gauss–Seidel between the two. A row's particles lie in one stride of slots, so rows are
-  // vectorised across rows (gathers) and columns across columns (contiguous).
+  // Gauss–Seidel between the two. Columns are vectorised across columns (a row's slots are
+  // contiguous); rows along each row where they can be, and across rows in the recurrences.
 
   // A constraint of a chain through a fixed particle is swept spring by spring instead, twice per
   // pass, red–black: between two pins a row is a taut string whose exact solve is near singular.
@@ -572,8 +573,9 @@ class GridXpbd final : public Solver {
     ChainScratch<Real>& cs = col_chains_;
     Real *__restrict nx = cs.n.x.data(), *__restrict ny = cs.n.y.data(),
                      *__restrict nz = cs.n.z.data();
-    Real *__restrict fe = cs.f.data(), *__restrict gb = cs.g.data(),
-                     *__restrict inv_beta = cs.inv_beta.data(), *__restrict lambda = cs.lambda.data();
+    Real *__restrict fe = cs.f.data(), *__restrict g = cs.g.data(),
+                     *__restrict inv_beta = cs.inv_beta.data();
+    Real* __restrict lambda = cs.lambda.data();
     const Real* __restrict w = inv_mass_.data();
     const auto [alpha_tilde, gamma] = compliance(f, h);
     const Real rest = f.rest, keep = first ? Real(0) : Real(1);
@@ -583,7 +585,7 @@ class GridXpbd final : public Solver {
         const int i = t * stride + l, q = i + stride;  // particle (t, l), (t + 1, l); entry
         const ChainRow c = chain_row(bx, by, bz, mx, my, mz, w, i, q, !fixed[l], rest,
                                      alpha_tilde, gamma);
-        eliminate(c, w[i], gamma, alpha_tilde * keep * lambda[q], nx, ny, nz, fe, gb, inv_beta, i,
+        eliminate(c, w[i], gamma, alpha_tilde * keep * lambda[q], nx, ny, nz, fe, g, inv_beta, i,
                   q);
       }
     }
@@ -591,7 +593,7 @@ class GridXpbd final : public Solver {
 #pragma omp simd
       for (int l = l0; l < l1; ++l) {
         const int q = (t + 1) * stride + l, qn = q + stride;  // also particle t + 1 and t + 2
-        const Real dl = substitute(fe, gb, inv_beta, lambda, keep, q, qn), dn = gb[qn], wj = w[q];
+        const Real dl = substitute(fe, g, inv_beta, lambda, keep, q, qn), dn = g[qn], wj = w[q];
         mx[q] += wj * (nx[q] * dl - nx[qn] * dn);
         my[q] += wj * (ny[q] * dl - ny[qn] * dn);
         mz[q] += wj * (nz[q] * dl - nz[qn] * dn);
@@ -600,9 +602,9 @@ class GridXpbd final : public Solver {
 #pragma omp simd
     for (int l = l0; l < l1; ++l) {  // the top particle
       const int q = stride + l;
-      mx[l] -= w[l] * nx[q] * gb[q];
-      my[l] -= w[l] * ny[q] * gb[q];
-      mz[l] -= w[l] * nz[q] * gb[q];
+      mx[l] -= w[l] * nx[q] * g[q];
+      my[l] -= w[l] * ny[q] * g[q];
+      mz[l] -= w[l] * nz[q] * g[q];
     }
     for (int l = l0; l < l1; ++l)
       if (fixed[l]) sweep_chain(f, h, l, stride, rows_);
@@ -626,8 +628,9 @@ class GridXpbd final : public Solver {
     ChainScratch<Real>& cs = row_chains_;
     Real *__restrict nx = cs.n.x.data(), *__restrict ny = cs.n.y.data(),
                      *__restrict nz = cs.n.z.data();
-    Real *__restrict fe = cs.f.data(), *__restrict gb = cs.g.data(),
-                     *__restrict inv_beta = cs.inv_beta.data(), *__restrict lambda = cs.lambda.data();
+    Real *__restrict fe = cs.f.data(), *__restrict g = cs.g.data(),
+                     *__restrict inv_beta = cs.inv_beta.data();
+    Real* __restrict lambda = cs.lambda.data();
     const Real* __restrict w = inv_mass_.data();
     const auto [alpha_tilde, gamma] = compliance(f, h);
     const Real rest = f.rest, keep = first ? Real(0) : Real(1);
@@ -654,7 +657,7 @@ class GridXpbd final : public Solver {
       for (int r = r0; r < r1; ++r) {
         const int i = r * grid_.stride + o, q = q0 + r;
         const ChainRow c{sx[i], sy[i], sz[i], sb[i], sr[i]};
-        eliminate(c, w[i], gamma, alpha_tilde * keep * lambda[q], nx, ny, nz, fe, gb, inv_beta,
+        eliminate(c, w[i], gamma, alpha_tilde * keep * lambda[q], nx, ny, nz, fe, g, inv_beta,
                   q - rows_, q);
       }
     }
@@ -663,7 +666,7 @@ class GridXpbd final : public Solver {
 #pragma omp simd
       for (int r = r0; r < r1; ++r) {
         const int q = q0 + r;
-        sdl[r * grid_.stride + o] = substitute(fe, gb, inv_beta, lambda, keep, q, q + rows_);
+        sdl[r * grid_.stride + o] = substitute(fe, g, inv_beta, lambda, keep, q, q + rows_);
       }
     }
     // The moves, constraint by constraint: a run's constraints share no particle.
