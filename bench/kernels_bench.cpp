@@ -114,15 +114,22 @@ void PositionContacts(benchmark::State& st) {
 BENCHMARK(PositionContacts<double>)->Arg(128)->Arg(256);
 BENCHMARK(PositionContacts<float>)->Arg(128)->Arg(256);
 
-// One frame of xpbd at 20 substeps with long-range attachments (hang-lr), in each precision,
-// with and without stiff sweeps (each a sweep of the structural springs alone).
-void XpbdFrame(benchmark::State& st) {
+// The hang-lr cloth (long-range attachments) for xpbd at n = range(0), in single precision when
+// range(1), at `substeps` a frame.
+SceneDef xpbd_grid(const benchmark::State& st, int substeps) {
   SceneDef def = grid(static_cast<int>(st.range(0)));
   def.solver.method = Method::xpbd;
   def.solver.precision = st.range(1) ? Precision::f32 : Precision::f64;
-  def.solver.substeps = 20;
-  def.solver.stiff_sweeps = static_cast<int>(st.range(2));
+  def.solver.substeps = substeps;
   def.cloth.long_range.enabled = true;
+  return def;
+}
+
+// One frame of xpbd at 20 substeps with long-range attachments (hang-lr), in each precision,
+// with and without stiff sweeps (each a sweep of the structural springs alone).
+void XpbdFrame(benchmark::State& st) {
+  SceneDef def = xpbd_grid(st, 20);
+  def.solver.stiff_sweeps = static_cast<int>(st.range(2));
   Simulation sim(def);
   for (auto _ : st) sim.step();
   st.SetItemsProcessed(st.iterations() * sim.model().size() * def.solver.substeps);
@@ -135,12 +142,8 @@ BENCHMARK(XpbdFrame)
 // of structural springs, after the attachments), on the same cloth; items are particles ×
 // substeps × passes.
 void XpbdLinesFrame(benchmark::State& st) {
-  SceneDef def = grid(static_cast<int>(st.range(0)));
-  def.solver.method = Method::xpbd;
-  def.solver.precision = st.range(1) ? Precision::f32 : Precision::f64;
-  def.solver.substeps = 4;
+  SceneDef def = xpbd_grid(st, 4);
   def.solver.line_passes = static_cast<int>(st.range(2));
-  def.cloth.long_range.enabled = true;
   Simulation sim(def);
   for (auto _ : st) sim.step();
   st.SetItemsProcessed(st.iterations() * sim.model().size() * def.solver.substeps *

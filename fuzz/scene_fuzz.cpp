@@ -39,9 +39,9 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         iterations = def.solver.iterations > 0 ? def.solver.iterations : 200;
         break;
       case drape::Method::xpbd:
-        // A line pass costs about three sweeps (two chain solves and a contact pass).
+        // A line pass costs about four stiff sweeps (drape_kernels, 128×128).
         iterations = std::max(1, def.solver.iterations) + def.solver.stiff_sweeps +
-                     3 * def.solver.line_passes;
+                     4 * def.solver.line_passes;
         break;
       case drape::Method::symplectic:
         break;
