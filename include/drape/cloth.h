@@ -73,8 +73,8 @@ ClothState initial_state(const ClothDef& def, const ClothModel& model);
 void update_normals(const ClothModel& model, ClothState& state);
 
 /// Heap bytes held by vectors (their capacity), for memory reports: heap_bytes(a, b, ...).
-template <typename T>
-int64_t heap_bytes(const std::vector<T>& v) {
+template <typename T, typename Alloc>
+int64_t heap_bytes(const std::vector<T, Alloc>& v) {
   return static_cast<int64_t>(v.capacity() * sizeof(T));
 }
 template <typename First, typename Second, typename... Rest>

@@ -22,6 +22,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "aligned.h"
 #include "constraints.h"
 #include "drape/error.h"
 #include "forces.h"
@@ -48,8 +49,8 @@ constexpr int kContactEvery = 3;
 /// Positions (or any 3-vector field) as three arrays.
 template <typename Real>
 struct Soa {
-  std::vector<Real> x, y, z;
-  std::vector<Real>& operator[](int d) { return d == 0 ? x : d == 1 ? y : z; }
+  AlignedVector<Real> x, y, z;
+  AlignedVector<Real>& operator[](int d) { return d == 0 ? x : d == 1 ? y : z; }
   void resize(size_t n) {
     x.assign(n, 0.0);
     y.assign(n, 0.0);
@@ -94,8 +95,8 @@ struct Family {
 template <typename Real>
 struct ChainScratch {
   Soa<Real> n;                   ///< the constraint's unit direction
-  std::vector<Real> f, g, inv_beta;  ///< Thomas: e/β of the entry before, g (then Δλ), 1/β
-  std::vector<Real> lambda;      ///< λ accumulated over this substep's passes
+  AlignedVector<Real> f, g, inv_beta;  ///< Thomas: e/β of the entry before, g (then Δλ), 1/β
+  AlignedVector<Real> lambda;          ///< λ accumulated over this substep's passes
 
   void prepare(size_t entries) {
     n.resize(entries);
@@ -785,13 +786,13 @@ class GridXpbd final : public Solver {
   int stiff_sweeps_ = 0;
   double stiffest_ = 0.0;  ///< N/m, the stiffest family's stiffness (what stiff sweeps redo)
   Soa<Real> base_, move_, v_, accel_;  ///< x = base + move (see split); per slot
-  std::vector<Real> inv_mass_;         ///< per slot; zero for pins, held particles and padding
+  AlignedVector<Real> inv_mass_;       ///< per slot; zero for pins, held particles and padding
   std::vector<Vec3> scratch_;          ///< wind forces, AoS as forces.h writes them
   std::vector<Family> families_;
-  std::vector<Real> lambda_;  ///< per family and first slot; only with iterations > 1
+  AlignedVector<Real> lambda_;  ///< per family and first slot; only with iterations > 1
   LongRange attachments_;
   std::vector<int32_t> pin_slot_;       ///< the attachments' pins, as slots
-  std::vector<Real> attachment_limit_;  ///< per pin, per slot, m
+  AlignedVector<Real> attachment_limit_;  ///< per pin, per slot, m
   // Line passes (solver.line_passes).
   int line_passes_ = 0;               ///< as asked
   bool lines_ = false;                ///< whether they run now (see prepare_lines)
@@ -801,7 +802,7 @@ class GridXpbd final : public Solver {
   std::vector<unsigned char> row_fixed_, col_fixed_;  ///< chain holds a fixed particle: swept
   ChainScratch<Real> row_chains_, col_chains_;
   Soa<Real> rows_n_;                         ///< per slot: its row constraint's direction
-  std::vector<Real> rows_b_, rows_r_, rows_dl_;  ///< per slot: its diagonal, right side, Δλ
+  AlignedVector<Real> rows_b_, rows_r_, rows_dl_;  ///< per slot: its diagonal, right side, Δλ
 };
 
 }  // namespace
