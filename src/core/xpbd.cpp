@@ -131,10 +131,9 @@ class GridXpbd final : public Solver {
     lambda_.assign(iterations_ > 1 ? families_.size() * static_cast<size_t>(slots) : 0, 0.0);
     attachments_.prepare(m, w.state, w.long_range);
     const std::vector<int32_t>& pins = attachments_.pins();
-    pin_slot_.resize(pins.size());
+    pin_at_.resize(pins.size());
     attachment_limit_.assign(pins.size() * static_cast<size_t>(slots), 0.0);
     for (size_t k = 0; k < pins.size(); ++k) {
-      pin_slot_[k] = grid_.slot(pins[k]);
       for (int32_t i = 0; i < n; ++i)
         attachment_limit_[k * slots + grid_.slot(i)] =
             static_cast<Real>(attachments_.limit(m, i, pins[k]));
@@ -163,6 +162,9 @@ class GridXpbd final : public Solver {
     }
     const Vec3 g = w.forces.gravity;
     const double drag = w.forces.air_drag;
+    for (size_t k = 0; k < pin_at_.size(); ++k)
+      for (int d = 0; d < 3; ++d)
+        split(s.x[attachments_.pins()[k]][d], pin_at_[k].base[d], pin_at_[k].move[d]);
 
 #pragma omp parallel if (worth_threads(n))
     {
@@ -185,11 +187,7 @@ class GridXpbd final : public Solver {
           project_stiffest(h);
         }
         if (lines_) {
-          for (int pass = 0; pass < line_passes_; ++pass) {
-            if (attachments_.active()) apply_attachments();
-            if (!w.colliders.empty()) resolve_contacts(w.colliders);
-            solve_lines(h, pass == 0);
-          }
+          for (int pass = 0; pass < line_passes_; ++pass) solve_lines(w.colliders, h, pass == 0);
         } else if (attachments_.active()) {
           apply_attachments();
         }
@@ -214,9 +212,8 @@ class GridXpbd final : public Solver {
   int64_t workspace_bytes() const override {
     return heap_bytes(base_.x, base_.y, base_.z, move_.x, move_.y, move_.z, v_.x, v_.y, v_.z,
                       accel_.x, accel_.y, accel_.z, inv_mass_, scratch_, families_, lambda_,
-                      attachments_.pins(), pin_slot_, attachment_limit_, col_slot_, row_start_,
-                      row_fixed_, col_fixed_, rows_n_.x, rows_n_.y, rows_n_.z, rows_b_, rows_r_,
-                      rows_dl_) +
+                      attachments_.pins(), pin_at_, attachment_limit_, col_slot_, row_fixed_,
+                      col_fixed_, rows_n_.x, rows_n_.y, rows_n_.z, rows_b_, rows_r_, rows_dl_) +
            row_chains_.bytes() + col_chains_.bytes();
   }
 
@@ -284,8 +281,6 @@ class GridXpbd final : public Solver {
     if (!lines_) return;
     col_slot_.resize(cols_);
     for (int c = 0; c < cols_; ++c) col_slot_[c] = grid_.index(0, c);
-    row_start_.resize(rows_);
-    for (int r = 0; r < rows_; ++r) row_start_[r] = r * grid_.stride;
     // A chain through a fixed particle is swept spring by spring: between two pins a row is a
     // taut string, whose exact solve is near singular.
     row_fixed_.assign(rows_, 0);
@@ -498,14 +493,23 @@ class GridXpbd final : public Solver {
   // pass, red–black: between two pins a row is a taut string whose exact solve is near singular.
   static constexpr int kFixedChainSweeps = 2;
 
-  // One pass: every row, then every column, each thread its share of them.
-  void solve_lines(Real h, bool first) {
+  // One pass: the attachments and contacts, every row, then every column, each thread its share
+  // of them. A thread resolves the attachments and contacts of its own rows and solves those
+  // rows at once, with no barrier between: a row's attachments and contacts move its own
+  // particles only, and read the pins from pin_at_, not from the arrays other threads write.
+  void solve_lines(const std::vector<Collider>& colliders, Real h, bool first) {
     const Family& rf = families_[row_family_];
     const Family& cf = families_[col_family_];
     const int parts = team_size();
 #pragma omp for schedule(static)
-    for (int part = 0; part < parts; ++part)
-      solve_rows(rf, h, rows_ * part / parts, rows_ * (part + 1) / parts, first);
+    for (int part = 0; part < parts; ++part) {
+      const int r0 = rows_ * part / parts, r1 = rows_ * (part + 1) / parts;
+      for (int r = r0; r < r1; ++r) {
+        if (attachments_.active()) attachments_row(r);
+        contacts_row(colliders, r);
+      }
+      solve_rows(rf, h, r0, r1, first);
+    }
 #pragma omp for schedule(static)
     for (int part = 0; part < parts; ++part)
       solve_columns(cf, h, grid_.stride * part / parts, grid_.stride * (part + 1) / parts, first);
@@ -707,29 +711,33 @@ class GridXpbd final : public Solver {
   // Long-range attachments on every free particle, pin after pin (project_attachment in
   // long_range.h, branch-free so it vectorises; the limits are tabulated at set-up).
   void apply_attachments() {
-    const int32_t n = grid_.size();
-    const Real *__restrict bx = base_.x.data(), *__restrict by = base_.y.data(),
-                           *__restrict bz = base_.z.data();
-    Real *__restrict mx = move_.x.data(), *__restrict my = move_.y.data(),
-                     *__restrict mz = move_.z.data();
-    const Real* __restrict w = inv_mass_.data();
 #pragma omp for schedule(static)
-    for (int r = 0; r < rows_; ++r) {
-      for (size_t k = 0; k < pin_slot_.size(); ++k) {
-        const int32_t a = pin_slot_[k];
-        const Real* __restrict limit = attachment_limit_.data() + k * n;
+    for (int r = 0; r < rows_; ++r) attachments_row(r);
+  }
+
+  // The attachments of row r.
+  void attachments_row(int r) {
+    const int32_t i0 = r * grid_.stride;
+    const Real *__restrict bx = base_.x.data() + i0, *__restrict by = base_.y.data() + i0,
+                           *__restrict bz = base_.z.data() + i0;
+    Real *__restrict mx = move_.x.data() + i0, *__restrict my = move_.y.data() + i0,
+                     *__restrict mz = move_.z.data() + i0;
+    const Real* __restrict w = inv_mass_.data() + i0;
+    for (size_t k = 0; k < pin_at_.size(); ++k) {
+      const PinAt& a = pin_at_[k];
+      const Real* __restrict limit = attachment_limit_.data() + k * grid_.size() + i0;
 #pragma omp simd
-        for (int i = r * grid_.stride; i < (r + 1) * grid_.stride; ++i) {
-          // x − x_pin, and x_pin + scale·(x − x_pin) written as a change of the move.
-          const Real dx = (bx[i] - bx[a]) + (mx[i] - mx[a]), dy = (by[i] - by[a]) + (my[i] - my[a]),
-                     dz = (bz[i] - bz[a]) + (mz[i] - mz[a]);
-          const Real len = std::sqrt(dx * dx + dy * dy + dz * dz);
-          const bool pull = w[i] > 0 && len > limit[i];
-          const Real shrink = pull ? limit[i] / len - 1 : Real(0);
-          mx[i] += shrink * dx;
-          my[i] += shrink * dy;
-          mz[i] += shrink * dz;
-        }
+      for (int c = 0; c < grid_.stride; ++c) {
+        // x − x_pin, and x_pin + scale·(x − x_pin) written as a change of the move.
+        const Real dx = (bx[c] - a.base[0]) + (mx[c] - a.move[0]),
+                   dy = (by[c] - a.base[1]) + (my[c] - a.move[1]),
+                   dz = (bz[c] - a.base[2]) + (mz[c] - a.move[2]);
+        const Real len = std::sqrt(dx * dx + dy * dy + dz * dz);
+        const bool pull = w[c] > 0 && len > limit[c];
+        const Real shrink = pull ? limit[c] / len - 1 : Real(0);
+        mx[c] += shrink * dx;
+        my[c] += shrink * dy;
+        mz[c] += shrink * dz;
       }
     }
   }
@@ -791,14 +799,17 @@ class GridXpbd final : public Solver {
   std::vector<Family> families_;
   AlignedVector<Real> lambda_;  ///< per family and first slot; only with iterations > 1
   LongRange attachments_;
-  std::vector<int32_t> pin_slot_;       ///< the attachments' pins, as slots
+  // A pin's position split as the frame's start split it (pins do not move).
+  struct PinAt {
+    Real base[3], move[3];
+  };
+  std::vector<PinAt> pin_at_;
   AlignedVector<Real> attachment_limit_;  ///< per pin, per slot, m
   // Line passes (solver.line_passes).
   int line_passes_ = 0;               ///< as asked
   bool lines_ = false;                ///< whether they run now (see prepare_lines)
   int row_family_ = -1, col_family_ = -1;  ///< the structural families along rows and columns
-  std::vector<int32_t> col_slot_;     ///< slot of column c within a row
-  std::vector<int32_t> row_start_;    ///< slot of row r's first slot, r·stride
+  std::vector<int32_t> col_slot_;          ///< slot of column c within a row
   std::vector<unsigned char> row_fixed_, col_fixed_;  ///< chain holds a fixed particle: swept
   ChainScratch<Real> row_chains_, col_chains_;
   Soa<Real> rows_n_;                         ///< per slot: its row constraint's direction
