@@ -10,6 +10,7 @@
 #include <functional>
 #include <limits>
 #include <nlohmann/json.hpp>
+#include <utility>
 
 #include "constraints.h"
 #include "drape/error.h"
@@ -726,11 +727,13 @@ TEST(XpbdLinePasses, RemoveAUniformStretchInOnePassAtAnyResolution) {
   // leaves every structural spring at its rest length to round-off, however many particles a
   // row holds. Sweeping spring by spring moves the stretch one spring per sweep: at 64×64 a
   // sweep of all springs leaves almost all of it. Only structural springs, so nothing else
-  // pulls, and rigid ones, so that the step's compliance leaves no stretch of its own.
-  for (const int n : {8, 64}) {
-    SCOPED_TRACE("resolution " + std::to_string(n));
+  // pulls, and rigid ones, so that the step's compliance leaves no stretch of its own. 37 × 13
+  // leaves the row solve's groups of 8 rows and tiles of 8 columns a residue partly filled.
+  for (const auto& [n, rows] : {std::pair{8, 8}, {64, 64}, {37, 13}}) {
+    SCOPED_TRACE("resolution " + std::to_string(n) + "x" + std::to_string(rows));
     SceneDef def = bare(Method::xpbd);
-    def.cloth.cols = def.cloth.rows = n;
+    def.cloth.cols = n;
+    def.cloth.rows = rows;
     def.cloth.shear.stiffness = def.cloth.bending.stiffness = 0.0;
     def.cloth.structural = {1e14, 0.0};  // rigid: compliance leaves no stretch of its own
     auto stretch = [](std::vector<Vec3>& x) {

@@ -19,6 +19,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstring>
 #include <stdexcept>
 #include <string>
 
@@ -47,14 +48,14 @@ constexpr int kDefaultIterations = 1;
 constexpr int kContactEvery = 3;
 
 /// Positions (or any 3-vector field) as three arrays.
-template <typename Real>
+template <typename T>
 struct Soa {
-  AlignedVector<Real> x, y, z;
-  AlignedVector<Real>& operator[](int d) { return d == 0 ? x : d == 1 ? y : z; }
+  AlignedVector<T> x, y, z;
+  AlignedVector<T>& operator[](int d) { return d == 0 ? x : d == 1 ? y : z; }
   void resize(size_t n) {
-    x.assign(n, 0.0);
-    y.assign(n, 0.0);
-    z.assign(n, 0.0);
+    x.assign(n, T{});
+    y.assign(n, T{});
+    z.assign(n, T{});
   }
 };
 
@@ -91,25 +92,89 @@ struct Family {
 
 /// The line passes' arrays for one direction (rows or columns), by chain entry: constraint t of
 /// chain l has entry (t + 1)·lanes + l, so they are contiguous across chains; the entries before
-/// the first constraint and after the last are never written and end the recurrences.
-template <typename Real>
+/// the first constraint and after the last are never written and end the recurrences. T is a
+/// number (columns) or a vector of numbers, one lane a chain (rows, see Lanes).
+template <typename T>
 struct ChainScratch {
-  Soa<Real> n;                   ///< the constraint's unit direction
-  AlignedVector<Real> f, g, inv_beta;  ///< Thomas: e/β of the entry before, g (then Δλ), 1/β
-  AlignedVector<Real> lambda;          ///< λ accumulated over this substep's passes
+  Soa<T> n;                         ///< the constraint's unit direction
+  AlignedVector<T> f, g, inv_beta;  ///< Thomas: e/β of the entry before, g (then Δλ), 1/β
+  AlignedVector<T> lambda;          ///< λ accumulated over this substep's passes
 
   void prepare(size_t entries) {
     n.resize(entries);
-    f.assign(entries, 0.0);
-    g.assign(entries, 0.0);
-    inv_beta.assign(entries, 1.0);
-    lambda.assign(entries, 0.0);
+    f.assign(entries, T{});
+    g.assign(entries, T{});
+    inv_beta.assign(entries, T{} + 1);
+    lambda.assign(entries, T{});
   }
   int64_t bytes() const { return heap_bytes(n.x, n.y, n.z, f, g, inv_beta, lambda); }
 };
 
+/// kLanes numbers as one vector (GCC's and Clang's vector extensions: arithmetic is lane by lane
+/// and compiles to whatever SIMD the target has), and kLanes × kLanes tiles of an array moved to
+/// and from them, transposed in registers. The row solve runs its recurrences kLanes rows at a
+/// time this way: a row's numbers are contiguous along it, and the transposes turn a tile of
+/// them into one vector per column across the rows, without a strided load or store per number.
+template <typename Real>
+struct Lanes {
+  static constexpr int kLanes = 8;
+  typedef Real Vec __attribute__((vector_size(kLanes * sizeof(Real))));
+  using Tile = Vec[kLanes];
+
+  // Rows [0, nrows) and columns [0, ncols) of the tile whose row k starts at src + k·stride;
+  // the rest of the tile is `fill`. Each of the rows is read whole, so the array needs kLanes
+  // numbers of slack past the last place read. Returned transposed: tile[j] holds column j.
+  static void load(const Real* src, int stride, int nrows, int ncols, Real fill, Tile& tile) {
+    const Vec lane{0, 1, 2, 3, 4, 5, 6, 7}, filled = Vec{} + fill;
+    for (int k = 0; k < kLanes; ++k) {
+      if (k < nrows) {
+        std::memcpy(&tile[k], src + k * stride, sizeof(Vec));
+        if (ncols < kLanes) tile[k] = lane < Real(ncols) ? tile[k] : filled;
+      } else {
+        tile[k] = filled;
+      }
+    }
+    transpose(tile);
+  }
+  // The inverse of load for the tile's rows [0, nrows) and columns [0, ncols); tile is
+  // transposed in place.
+  static void store(Tile& tile, Real* dst, int stride, int nrows, int ncols) {
+    transpose(tile);
+    for (int k = 0; k < nrows; ++k) std::memcpy(dst + k * stride, &tile[k], ncols * sizeof(Real));
+  }
+
+ private:
+  // Swapping the off-diagonal k × k blocks of every 2k × 2k block exchanges bit k of the row
+  // and column indices; doing so for k = 1, 2, 4 transposes the tile.
+  template <int k>
+  static constexpr int low(int p) {
+    return (p & k) ? kLanes + p - k : p;
+  }
+  template <int k>
+  static constexpr int high(int p) {
+    return (p & k) ? kLanes + p : p + k;
+  }
+  template <int k>
+  static void swap_blocks(Vec& a, Vec& b) {
+    const Vec l = __builtin_shufflevector(a, b, low<k>(0), low<k>(1), low<k>(2), low<k>(3),
+                                          low<k>(4), low<k>(5), low<k>(6), low<k>(7));
+    const Vec h = __builtin_shufflevector(a, b, high<k>(0), high<k>(1), high<k>(2), high<k>(3),
+                                          high<k>(4), high<k>(5), high<k>(6), high<k>(7));
+    a = l;
+    b = h;
+  }
+  static void transpose(Tile& t) {
+    static_assert(kLanes == 8, "the shuffles are written out for 8 lanes");
+    for (int i = 0; i < kLanes; i += 2) swap_blocks<1>(t[i], t[i + 1]);
+    for (int i : {0, 1, 4, 5}) swap_blocks<2>(t[i], t[i + 2]);
+    for (int i = 0; i < 4; ++i) swap_blocks<4>(t[i], t[i + 4]);
+  }
+};
+
 template <typename Real>
 class GridXpbd final : public Solver {
+  using Lane = typename Lanes<Real>::Vec;
+
  public:
   void prepare(const World& w, const SolverDef& def) override {
     const ClothModel& m = w.model;
@@ -121,7 +186,8 @@ class GridXpbd final : public Solver {
     move_.resize(slots);
     v_.resize(slots);
     accel_.resize(slots);
-    inv_mass_.assign(slots, 0.0);  // padding slots stay at zero: they never move
+    // Padding slots stay at zero: they never move. The slack is for Lanes::load.
+    inv_mass_.assign(slots + Lanes<Real>::kLanes, 0.0);
     scratch_.assign(n, Vec3::Zero());
     prepare_families(m);
     stiffest_ = 0.0;
@@ -292,12 +358,13 @@ class GridXpbd final : public Solver {
     }
     // Each direction its own arrays: rows and columns are shared out to threads differently,
     // and scratch that changed hands every pass would cross between the cores' caches.
-    row_chains_.prepare(size_t(cols_ + 1) * rows_);
+    row_chains_.prepare(size_t(cols_ + 1) * row_groups());
     col_chains_.prepare(size_t(rows_ + 1) * grid_.stride);
     const int32_t slots = grid_.size();
-    rows_n_.resize(slots);
-    rows_b_.assign(slots, 1.0);
-    rows_r_.assign(slots, 0.0);
+    const int32_t slack = Lanes<Real>::kLanes;  // for Lanes::load
+    rows_n_.resize(slots + slack);
+    rows_b_.assign(slots + slack, 1.0);
+    rows_r_.assign(slots + slack, 0.0);
     rows_dl_.assign(slots, 0.0);
   }
 
@@ -493,6 +560,11 @@ class GridXpbd final : public Solver {
   // pass, red–black: between two pins a row is a taut string whose exact solve is near singular.
   static constexpr int kFixedChainSweeps = 2;
 
+  // The rows in groups of Lanes<Real>::kLanes, the last one filled up with lanes that do nothing.
+  int row_groups() const {
+    return (rows_ + Lanes<Real>::kLanes - 1) / Lanes<Real>::kLanes;
+  }
+
   // One pass: the attachments and contacts, every row, then every column, each thread its share
   // of them. A thread resolves the attachments and contacts of its own rows and solves those
   // rows at once, with no barrier between: a row's attachments and contacts move its own
@@ -503,12 +575,13 @@ class GridXpbd final : public Solver {
     const int parts = team_size();
 #pragma omp for schedule(static)
     for (int part = 0; part < parts; ++part) {
-      const int r0 = rows_ * part / parts, r1 = rows_ * (part + 1) / parts;
-      for (int r = r0; r < r1; ++r) {
+      const int g0 = row_groups() * part / parts, g1 = row_groups() * (part + 1) / parts;
+      const int L = Lanes<Real>::kLanes;
+      for (int r = g0 * L; r < std::min(g1 * L, rows_); ++r) {
         if (attachments_.active()) attachments_row(r);
         contacts_row(colliders, r);
       }
-      solve_rows(rf, h, r0, r1, first);
+      solve_rows(rf, h, g0, g1, first);
     }
 #pragma omp for schedule(static)
     for (int part = 0; part < parts; ++part)
@@ -518,9 +591,11 @@ class GridXpbd final : public Solver {
   // What a chain's constraint contributes to its system, from its two ends i and j: the unit
   // direction n, the diagonal b and the right-hand side r without the α̃λ term. `live` false
   // (both ends fixed, or a chain swept spring by spring) leaves r = 0: no change.
-  struct ChainRow {
-    Real nx, ny, nz, b, r;
+  template <typename T>
+  struct ChainRowOf {
+    T nx, ny, nz, b, r;
   };
+  using ChainRow = ChainRowOf<Real>;
   static ChainRow chain_row(const Real* __restrict bx, const Real* __restrict by,
                             const Real* __restrict bz, const Real* __restrict mx,
                             const Real* __restrict my, const Real* __restrict mz,
@@ -539,27 +614,27 @@ class GridXpbd final : public Solver {
   // One step of the forward elimination for constraint entry q after entry p (the previous
   // constraint of the chain, or the zero entry before the first): f = e/β_p, β = b − f·e,
   // g = r − f·g_p; wi is the inverse mass of the particle the two share. One division a step:
-  // the recurrence's latency, not its arithmetic, is what bounds it.
-  static void eliminate(const ChainRow& c, Real wi, Real gamma, Real alpha_lambda,
-                        Real* __restrict nx, Real* __restrict ny, Real* __restrict nz,
-                        Real* __restrict fe, Real* __restrict g, Real* __restrict inv_beta, int p,
-                        int q) {
-    const Real e = -(1 + gamma) * wi * (nx[p] * c.nx + ny[p] * c.ny + nz[p] * c.nz);
-    const Real f = e * inv_beta[p];
+  // the recurrence's latency, not its arithmetic, is what bounds it. T: Real or a Lanes vector.
+  template <typename T>
+  static void eliminate(const ChainRowOf<T>& c, T wi, Real gamma, T alpha_lambda, T* __restrict nx,
+                        T* __restrict ny, T* __restrict nz, T* __restrict fe, T* __restrict g,
+                        T* __restrict inv_beta, int p, int q) {
+    const T e = -(1 + gamma) * wi * (nx[p] * c.nx + ny[p] * c.ny + nz[p] * c.nz);
+    const T f = e * inv_beta[p];
     nx[q] = c.nx;
     ny[q] = c.ny;
     nz[q] = c.nz;
     fe[q] = f;
-    inv_beta[q] = 1 / (c.b - f * e);
+    inv_beta[q] = Real(1) / (c.b - f * e);
     g[q] = c.r - alpha_lambda - f * g[p];
   }
 
   // The back substitution for entry q, the next constraint's entry qn holding Δλ already (the
   // entry after the last reads as zero): Δλ = g/β − f_next·Δλ_next, into g and onto λ.
-  static Real substitute(Real* __restrict fe, Real* __restrict g,
-                         const Real* __restrict inv_beta, Real* __restrict lambda, Real keep,
-                         int q, int qn) {
-    const Real dl = g[q] * inv_beta[q] - fe[qn] * g[qn];
+  template <typename T>
+  static T substitute(T* __restrict fe, T* __restrict g, const T* __restrict inv_beta,
+                      T* __restrict lambda, Real keep, int q, int qn) {
+    const T dl = g[q] * inv_beta[q] - fe[qn] * g[qn];
     g[q] = dl;
     lambda[q] = keep * lambda[q] + dl;
     return dl;
@@ -615,14 +690,16 @@ class GridXpbd final : public Solver {
       if (fixed[l]) sweep_chain(f, h, l, stride, rows_);
   }
 
-  // The rows [r0, r1). Vectorised across rows only the recurrences, which then gather from
-  // rows a stride apart; what costs (directions, square roots) and the moves run along each
-  // row in its contiguous runs of one column residue, as the spring sweeps do. Constraint t of
-  // row r (columns t, t + 1) has entry (t + 1)·rows + r, so the recurrences' arrays are
-  // contiguous across rows; rows_n_, rows_b_, rows_r_ and rows_dl_ hold the rest by slot.
-  void solve_rows(const Family& f, Real h, int r0, int r1, bool first) {
+  // The rows of lane groups [g0, g1) (rows 8·g0 up to 8·g1, or the last row). What costs
+  // (directions, square roots) and the moves run along each row in its contiguous runs of one
+  // column residue, as the spring sweeps do, by slot into rows_n_, rows_b_, rows_r_, rows_dl_.
+  // The recurrences run across rows, a lane a row, on tiles of those arrays transposed (Lanes):
+  // constraint t of the rows of group G has entry (t + 1)·groups + G.
+  void solve_rows(const Family& f, Real h, int g0, int g1, bool first) {
+    constexpr int L = Lanes<Real>::kLanes;
+    const int r0 = g0 * L, r1 = std::min(g1 * L, rows_), stride = grid_.stride;
+    const int block = grid_.block, groups = row_groups();
     const unsigned char* __restrict fixed = row_fixed_.data();
-    const int32_t* __restrict col_slot = col_slot_.data();
     const Real *__restrict bx = base_.x.data(), *__restrict by = base_.y.data(),
                            *__restrict bz = base_.z.data();
     Real *__restrict mx = move_.x.data(), *__restrict my = move_.y.data(),
@@ -630,12 +707,12 @@ class GridXpbd final : public Solver {
     Real *__restrict sx = rows_n_.x.data(), *__restrict sy = rows_n_.y.data(),
                      *__restrict sz = rows_n_.z.data(), *__restrict sb = rows_b_.data(),
                      *__restrict sr = rows_r_.data(), *__restrict sdl = rows_dl_.data();
-    ChainScratch<Real>& cs = row_chains_;
-    Real *__restrict nx = cs.n.x.data(), *__restrict ny = cs.n.y.data(),
+    ChainScratch<Lane>& cs = row_chains_;
+    Lane *__restrict nx = cs.n.x.data(), *__restrict ny = cs.n.y.data(),
                      *__restrict nz = cs.n.z.data();
-    Real *__restrict fe = cs.f.data(), *__restrict g = cs.g.data(),
+    Lane *__restrict fe = cs.f.data(), *__restrict g = cs.g.data(),
                      *__restrict inv_beta = cs.inv_beta.data();
-    Real* __restrict lambda = cs.lambda.data();
+    Lane* __restrict lambda = cs.lambda.data();
     const Real* __restrict w = inv_mass_.data();
     const auto [alpha_tilde, gamma] = compliance(f, h);
     const Real rest = f.rest, keep = first ? Real(0) : Real(1);
@@ -656,22 +733,48 @@ class GridXpbd final : public Solver {
         }
       }
     }
-    for (int t = 0; t + 1 < cols_; ++t) {
-      const int o = col_slot[t], q0 = (t + 1) * rows_;
-#pragma omp simd
-      for (int r = r0; r < r1; ++r) {
-        const int i = r * grid_.stride + o, q = q0 + r;
-        const ChainRow c{sx[i], sy[i], sz[i], sb[i], sr[i]};
-        eliminate(c, w[i], gamma, alpha_tilde * keep * lambda[q], nx, ny, nz, fe, g, inv_beta,
-                  q - rows_, q);
+    // Column t = 4k + b of a group's rows is lane t of slot b·block + k: tile k0 / L of residue
+    // b holds columns 4k + b for k in [k0, k0 + L). Lanes of rows past the last read as a
+    // constraint that changes nothing (b = 1, all else 0).
+    using LaneTiles = typename Lanes<Real>::Tile[4];
+    for (int G = g0; G < g1; ++G) {
+      const int rows_in = std::min(L, rows_ - G * L);
+      for (int k0 = 0; k0 < block; k0 += L) {
+        const int cols_in = std::min(L, block - k0);
+        LaneTiles tx, ty, tz, tb, tr, tw;
+        for (int b = 0; b < 4; ++b) {
+          const int s0 = G * L * stride + b * block + k0;
+          Lanes<Real>::load(sx + s0, stride, rows_in, cols_in, 0, tx[b]);
+          Lanes<Real>::load(sy + s0, stride, rows_in, cols_in, 0, ty[b]);
+          Lanes<Real>::load(sz + s0, stride, rows_in, cols_in, 0, tz[b]);
+          Lanes<Real>::load(sb + s0, stride, rows_in, cols_in, 1, tb[b]);
+          Lanes<Real>::load(sr + s0, stride, rows_in, cols_in, 0, tr[b]);
+          Lanes<Real>::load(w + s0, stride, rows_in, cols_in, 0, tw[b]);
+        }
+        for (int j = 0; j < cols_in; ++j) {
+          for (int b = 0; b < 4; ++b) {
+            const int t = 4 * (k0 + j) + b, q = (t + 1) * groups + G;
+            if (t + 1 >= cols_) break;
+            const ChainRowOf<Lane> c{tx[b][j], ty[b][j], tz[b][j], tb[b][j], tr[b][j]};
+            eliminate<Lane>(c, tw[b][j], gamma, alpha_tilde * keep * lambda[q], nx, ny, nz, fe, g,
+                            inv_beta, q - groups, q);
+          }
+        }
       }
-    }
-    for (int t = cols_ - 2; t >= 0; --t) {
-      const int o = col_slot[t], q0 = (t + 1) * rows_;
-#pragma omp simd
-      for (int r = r0; r < r1; ++r) {
-        const int q = q0 + r;
-        sdl[r * grid_.stride + o] = substitute(fe, g, inv_beta, lambda, keep, q, q + rows_);
+      for (int k0 = (block - 1) / L * L; k0 >= 0; k0 -= L) {
+        const int cols_in = std::min(L, block - k0);
+        LaneTiles td;
+        for (int j = L - 1; j >= 0; --j) {
+          for (int b = 3; b >= 0; --b) {
+            const int t = 4 * (k0 + j) + b, q = (t + 1) * groups + G;
+            td[b][j] = t + 1 < cols_
+                           ? substitute<Lane>(fe, g, inv_beta, lambda, keep, q, q + groups)
+                           : Lane{};
+          }
+        }
+        for (int b = 0; b < 4; ++b)
+          Lanes<Real>::store(td[b], sdl + G * L * stride + b * block + k0, stride, rows_in,
+                             cols_in);
       }
     }
     // The moves, constraint by constraint: a run's constraints share no particle.
@@ -811,7 +914,8 @@ class GridXpbd final : public Solver {
   int row_family_ = -1, col_family_ = -1;  ///< the structural families along rows and columns
   std::vector<int32_t> col_slot_;          ///< slot of column c within a row
   std::vector<unsigned char> row_fixed_, col_fixed_;  ///< chain holds a fixed particle: swept
-  ChainScratch<Real> row_chains_, col_chains_;
+  ChainScratch<Lane> row_chains_;                     ///< a lane a row (see solve_rows)
+  ChainScratch<Real> col_chains_;
   Soa<Real> rows_n_;                         ///< per slot: its row constraint's direction
   AlignedVector<Real> rows_b_, rows_r_, rows_dl_;  ///< per slot: its diagonal, right side, Δλ
 };
