@@ -279,7 +279,8 @@ class GridXpbd final : public Solver {
     return heap_bytes(base_.x, base_.y, base_.z, move_.x, move_.y, move_.z, v_.x, v_.y, v_.z,
                       accel_.x, accel_.y, accel_.z, inv_mass_, scratch_, families_, lambda_,
                       attachments_.pins(), pin_at_, attachment_limit_, col_slot_, row_fixed_,
-                      col_fixed_, rows_n_.x, rows_n_.y, rows_n_.z, rows_b_, rows_r_, rows_dl_) +
+                      col_fixed_, rows_n_.x, rows_n_.y, rows_n_.z, rows_b_, rows_r_, rows_dl_,
+                      twist_beta_, twist_g_, twist_fe_, twist_fg_, twist_dl_) +
            row_chains_.bytes() + col_chains_.bytes();
   }
 
@@ -360,6 +361,10 @@ class GridXpbd final : public Solver {
     // and scratch that changed hands every pass would cross between the cores' caches.
     row_chains_.prepare(size_t(cols_ + 1) * row_groups());
     col_chains_.prepare(size_t(rows_ + 1) * grid_.stride);
+    fixed_columns_ = std::find(col_fixed_.begin(), col_fixed_.end(), 1) != col_fixed_.end();
+    twist_ = rows_ > 1 ? twist_row() : 0;
+    for (AlignedVector<Real>* a : {&twist_beta_, &twist_g_, &twist_fe_, &twist_fg_, &twist_dl_})
+      a->assign(grid_.stride, 0.0);
     const int32_t slots = grid_.size();
     const int32_t slack = Lanes<Real>::kLanes;  // for Lanes::load
     rows_n_.resize(slots + slack);
@@ -583,9 +588,25 @@ class GridXpbd final : public Solver {
       }
       solve_rows(rf, h, g0, g1, first);
     }
+    if (rows_ < 2) return;  // no columns
+    // Each half's columns shared out, so that with two threads each has one half.
+    const int ranges = std::max(1, parts / 2), stride = grid_.stride;
 #pragma omp for schedule(static)
-    for (int part = 0; part < parts; ++part)
-      solve_columns(cf, h, grid_.stride * part / parts, grid_.stride * (part + 1) / parts, first);
+    for (int item = 0; item < 2 * ranges; ++item) {
+      const int r = item % ranges;
+      eliminate_columns(cf, h, item / ranges, stride * r / ranges, stride * (r + 1) / ranges,
+                        first);
+    }
+#pragma omp for schedule(static)
+    for (int item = 0; item < 2 * ranges; ++item) {
+      const int r = item % ranges;
+      substitute_columns(item / ranges, stride * r / ranges, stride * (r + 1) / ranges, first);
+    }
+    if (fixed_columns_) {
+#pragma omp for schedule(static)
+      for (int l = 0; l < stride; ++l)
+        if (col_fixed_[l]) sweep_chain(cf, h, l, stride, rows_);
+    }
   }
 
   // What a chain's constraint contributes to its system, from its two ends i and j: the unit
@@ -616,11 +637,21 @@ class GridXpbd final : public Solver {
   // g = r − f·g_p; wi is the inverse mass of the particle the two share. One division a step:
   // the recurrence's latency, not its arithmetic, is what bounds it. T: Real or a Lanes vector.
   template <typename T>
+  struct Pivot {
+    T e, f;  ///< the off-diagonal entry shared with entry p, and e/β_p
+  };
+  template <typename T>
+  static Pivot<T> pivot(const ChainRowOf<T>& c, T wi, Real gamma, const T* __restrict nx,
+                        const T* __restrict ny, const T* __restrict nz,
+                        const T* __restrict inv_beta, int p) {
+    const T e = -(1 + gamma) * wi * (nx[p] * c.nx + ny[p] * c.ny + nz[p] * c.nz);
+    return {e, e * inv_beta[p]};
+  }
+  template <typename T>
   static void eliminate(const ChainRowOf<T>& c, T wi, Real gamma, T alpha_lambda, T* __restrict nx,
                         T* __restrict ny, T* __restrict nz, T* __restrict fe, T* __restrict g,
                         T* __restrict inv_beta, int p, int q) {
-    const T e = -(1 + gamma) * wi * (nx[p] * c.nx + ny[p] * c.ny + nz[p] * c.nz);
-    const T f = e * inv_beta[p];
+    const auto [e, f] = pivot(c, wi, gamma, nx, ny, nz, inv_beta, p);
     nx[q] = c.nx;
     ny[q] = c.ny;
     nz[q] = c.nz;
@@ -640,54 +671,164 @@ class GridXpbd final : public Solver {
     return dl;
   }
 
-  // The columns whose slot in a row is in [l0, l1), vectorised across columns (a row's slots
-  // are contiguous). Constraint t of column l (rows t and t + 1) has entry (t + 1)·stride + l;
-  // entry l (before the first) and the one after the last stay zero and end the recurrences.
-  void solve_columns(const Family& f, Real h, int l0, int l1, bool first) {
-    const int stride = grid_.stride;
+  // The columns are solved from both ends at once (a twisted factorisation, as in the "burn at
+  // both ends" Thomas algorithm): the top half of every column is eliminated downwards and the
+  // bottom half upwards, both meet at the twist, constraint twist_ between particle rows twist_
+  // and twist_ + 1, whose Δλ both halves then compute alike, and each half substitutes back
+  // outwards from it. A half moves only its own particles, the rows the row solve gives the
+  // same thread with two threads: split down the columns instead, every pass would carry half
+  // the cloth's moves from one core's cache to the other's and back, which made a second
+  // thread gain nothing on the columns at 128² and 256². Vectorised across columns (a row's
+  // slots are contiguous). Constraint t of column l (rows t and t + 1) has entry
+  // (t + 1)·stride + l, the slot of particle t + 1; entry l (before the first) and the one after
+  // the last stay zero and end the recurrences.
+
+  // The twist: the constraint below the rows the row solve gives the first of two threads, so
+  // that each half moves the particles its thread solves the rows of; a row at least each side.
+  int twist_row() const {
+    return std::clamp(Lanes<Real>::kLanes * (row_groups() / 2), 1, rows_ - 1) - 1;
+  }
+
+  // Elimination towards the twist of half `half` (0 the top, 1 the bottom) of the columns whose
+  // slot in a row is in [l0, l1).
+  void eliminate_columns(const Family& f, Real h, int half, int l0, int l1, bool first) {
+    const int stride = grid_.stride, k = twist_;
     const unsigned char* __restrict fixed = col_fixed_.data();
     const Real *__restrict bx = base_.x.data(), *__restrict by = base_.y.data(),
                            *__restrict bz = base_.z.data();
-    Real *__restrict mx = move_.x.data(), *__restrict my = move_.y.data(),
-                     *__restrict mz = move_.z.data();
+    const Real *__restrict mx = move_.x.data(), *__restrict my = move_.y.data(),
+                           *__restrict mz = move_.z.data();
     ChainScratch<Real>& cs = col_chains_;
     Real *__restrict nx = cs.n.x.data(), *__restrict ny = cs.n.y.data(),
                      *__restrict nz = cs.n.z.data();
     Real *__restrict fe = cs.f.data(), *__restrict g = cs.g.data(),
                      *__restrict inv_beta = cs.inv_beta.data();
-    Real* __restrict lambda = cs.lambda.data();
+    const Real* __restrict lambda = cs.lambda.data();
+    Real *__restrict twist_beta = twist_beta_.data(), *__restrict twist_g = twist_g_.data(),
+                     *__restrict twist_fe = twist_fe_.data(),
+                     *__restrict twist_fg = twist_fg_.data();
     const Real* __restrict w = inv_mass_.data();
     const auto [alpha_tilde, gamma] = compliance(f, h);
     const Real rest = f.rest, keep = first ? Real(0) : Real(1);
-    for (int t = 0; t + 1 < rows_; ++t) {
+    if (half == 0) {
+      // Downwards, constraint t after t − 1 sharing particle t; at the twist only its pivot and
+      // right side, kept for the twist's solve.
+      for (int t = 0; t <= k; ++t) {
+#pragma omp simd
+        for (int l = l0; l < l1; ++l) {
+          const int i = t * stride + l, q = i + stride;  // particle (t, l), (t + 1, l); entry
+          const ChainRow c =
+              chain_row(bx, by, bz, mx, my, mz, w, i, q, !fixed[l], rest, alpha_tilde, gamma);
+          const Real alpha_lambda = alpha_tilde * keep * lambda[q];
+          if (t < k) {
+            eliminate(c, w[i], gamma, alpha_lambda, nx, ny, nz, fe, g, inv_beta, i, q);
+          } else {
+            const auto [e, fd] = pivot(c, w[i], gamma, nx, ny, nz, inv_beta, i);
+            nx[q] = c.nx;
+            ny[q] = c.ny;
+            nz[q] = c.nz;
+            fe[q] = fd;
+            twist_beta[l] = c.b - fd * e;
+            twist_g[l] = c.r - alpha_lambda - fd * g[i];
+          }
+        }
+      }
+      return;
+    }
+    // Upwards, constraint t after t + 1 sharing particle t + 1, whose e/β goes to entry t + 1
+    // (for the substitution downwards); at the twist only what the bottom adds to its pivot and
+    // right side.
+    for (int t = rows_ - 2; t >= k; --t) {
 #pragma omp simd
       for (int l = l0; l < l1; ++l) {
-        const int i = t * stride + l, q = i + stride;  // particle (t, l), (t + 1, l); entry
+        const int i = t * stride + l, q = i + stride, p = q + stride;
         const ChainRow c = chain_row(bx, by, bz, mx, my, mz, w, i, q, !fixed[l], rest,
                                      alpha_tilde, gamma);
-        eliminate(c, w[i], gamma, alpha_tilde * keep * lambda[q], nx, ny, nz, fe, g, inv_beta, i,
-                  q);
+        const auto [e, fu] = pivot(c, w[q], gamma, nx, ny, nz, inv_beta, p);
+        fe[p] = fu;
+        if (t > k) {
+          nx[q] = c.nx;
+          ny[q] = c.ny;
+          nz[q] = c.nz;
+          inv_beta[q] = Real(1) / (c.b - fu * e);
+          g[q] = c.r - alpha_tilde * keep * lambda[q] - fu * g[p];
+        } else {
+          twist_fe[l] = fu * e;
+          twist_fg[l] = fu * g[p];
+        }
       }
     }
-    for (int t = rows_ - 2; t >= 0; --t) {
+  }
+
+  // The twist's Δλ, then the substitution outwards of half `half` and its particles' moves.
+  void substitute_columns(int half, int l0, int l1, bool first) {
+    const int stride = grid_.stride, k = twist_, last = rows_ - 1;
+    Real *__restrict mx = move_.x.data(), *__restrict my = move_.y.data(),
+                     *__restrict mz = move_.z.data();
+    ChainScratch<Real>& cs = col_chains_;
+    const Real *__restrict nx = cs.n.x.data(), *__restrict ny = cs.n.y.data(),
+                           *__restrict nz = cs.n.z.data();
+    Real *__restrict fe = cs.f.data(), *__restrict g = cs.g.data(),
+                     *__restrict inv_beta = cs.inv_beta.data();
+    Real* __restrict lambda = cs.lambda.data();
+    const Real *__restrict twist_beta = twist_beta_.data(), *__restrict twist_g = twist_g_.data(),
+                           *__restrict twist_fe = twist_fe_.data(),
+                           *__restrict twist_fg = twist_fg_.data();
+    Real* __restrict twist_dl = twist_dl_.data();
+    const Real* __restrict w = inv_mass_.data();
+    const Real keep = first ? Real(0) : Real(1);
+    auto move = [&](int i, Real ax, Real ay, Real az) {
+      mx[i] += w[i] * ax;
+      my[i] += w[i] * ay;
+      mz[i] += w[i] * az;
+    };
+    if (half == 0) {
 #pragma omp simd
       for (int l = l0; l < l1; ++l) {
-        const int q = (t + 1) * stride + l, qn = q + stride;  // also particle t + 1 and t + 2
-        const Real dl = substitute(fe, g, inv_beta, lambda, keep, q, qn), dn = g[qn], wj = w[q];
-        mx[q] += wj * (nx[q] * dl - nx[qn] * dn);
-        my[q] += wj * (ny[q] * dl - ny[qn] * dn);
-        mz[q] += wj * (nz[q] * dl - nz[qn] * dn);
+        const int q = (k + 1) * stride + l;
+        const Real dl = (twist_g[l] - twist_fg[l]) / (twist_beta[l] - twist_fe[l]);
+        g[q] = dl;
+        lambda[q] = keep * lambda[q] + dl;
       }
+      for (int t = k - 1; t >= 0; --t) {
+#pragma omp simd
+        for (int l = l0; l < l1; ++l) {
+          const int q = (t + 1) * stride + l, qn = q + stride;  // also particle t + 1 and t + 2
+          const Real dl = substitute(fe, g, inv_beta, lambda, keep, q, qn), dn = g[qn];
+          move(q, nx[q] * dl - nx[qn] * dn, ny[q] * dl - ny[qn] * dn, nz[q] * dl - nz[qn] * dn);
+        }
+      }
+#pragma omp simd
+      for (int l = l0; l < l1; ++l) {  // the top particle
+        const int q = stride + l;
+        move(l, -nx[q] * g[q], -ny[q] * g[q], -nz[q] * g[q]);
+      }
+      return;
     }
 #pragma omp simd
-    for (int l = l0; l < l1; ++l) {  // the top particle
-      const int q = stride + l;
-      mx[l] -= w[l] * nx[q] * g[q];
-      my[l] -= w[l] * ny[q] * g[q];
-      mz[l] -= w[l] * nz[q] * g[q];
-    }
     for (int l = l0; l < l1; ++l)
-      if (fixed[l]) sweep_chain(f, h, l, stride, rows_);
+      twist_dl[l] = (twist_g[l] - twist_fg[l]) / (twist_beta[l] - twist_fe[l]);
+    // Δλ of constraint t − 1: the twist's own copy for the first, so as not to read what the
+    // top half writes meanwhile.
+    auto previous = [&](int t) { return t == k + 1 ? twist_dl : g + t * stride; };
+    for (int t = k + 1; t < last; ++t) {
+      const Real* __restrict dp = previous(t);
+#pragma omp simd
+      for (int l = l0; l < l1; ++l) {
+        const int q = (t + 1) * stride + l, qp = q - stride;  // also particle t + 1 and t
+        const Real dl = g[q] * inv_beta[q] - fe[q] * dp[l];
+        g[q] = dl;
+        lambda[q] = keep * lambda[q] + dl;
+        move(qp, nx[qp] * dp[l] - nx[q] * dl, ny[qp] * dp[l] - ny[q] * dl,
+             nz[qp] * dp[l] - nz[q] * dl);
+      }
+    }
+    const Real* __restrict dp = previous(last);
+#pragma omp simd
+    for (int l = l0; l < l1; ++l) {  // the bottom particle
+      const int qp = last * stride + l;
+      move(qp, nx[qp] * dp[l], ny[qp] * dp[l], nz[qp] * dp[l]);
+    }
   }
 
   // The rows of lane groups [g0, g1) (rows 8·g0 up to 8·g1, or the last row). What costs
@@ -916,6 +1057,11 @@ class GridXpbd final : public Solver {
   std::vector<unsigned char> row_fixed_, col_fixed_;  ///< chain holds a fixed particle: swept
   ChainScratch<Lane> row_chains_;                     ///< a lane a row (see solve_rows)
   ChainScratch<Real> col_chains_;
+  bool fixed_columns_ = false;  ///< some column holds a fixed particle
+  int twist_ = 0;               ///< the columns' twist constraint (see eliminate_columns)
+  AlignedVector<Real> twist_beta_, twist_g_;  ///< per column: the top half's pivot, right side
+  AlignedVector<Real> twist_fe_, twist_fg_;   ///< per column: what the bottom half takes off them
+  AlignedVector<Real> twist_dl_;              ///< per column: the twist's Δλ, the bottom's copy
   Soa<Real> rows_n_;                         ///< per slot: its row constraint's direction
   AlignedVector<Real> rows_b_, rows_r_, rows_dl_;  ///< per slot: its diagonal, right side, Δλ
 };
