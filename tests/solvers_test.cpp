@@ -728,8 +728,10 @@ TEST(XpbdLinePasses, RemoveAUniformStretchInOnePassAtAnyResolution) {
   // row holds. Sweeping spring by spring moves the stretch one spring per sweep: at 64×64 a
   // sweep of all springs leaves almost all of it. Only structural springs, so nothing else
   // pulls, and rigid ones, so that the step's compliance leaves no stretch of its own. 37 × 13
-  // leaves the row solve's groups of 8 rows and tiles of 8 columns a residue partly filled.
-  for (const auto& [n, rows] : {std::pair{8, 8}, {64, 64}, {37, 13}}) {
+  // leaves the row solve's groups of 8 rows and tiles of 8 columns a residue partly filled; the
+  // column solve meets from both ends at a twist, which 8 × 8 puts below the first row and 5 × 2
+  // on the only constraint of each column.
+  for (const auto& [n, rows] : {std::pair{8, 8}, {64, 64}, {37, 13}, {5, 2}}) {
     SCOPED_TRACE("resolution " + std::to_string(n) + "x" + std::to_string(rows));
     SceneDef def = bare(Method::xpbd);
     def.cloth.cols = n;
