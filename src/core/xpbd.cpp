@@ -97,7 +97,7 @@ struct Family {
 template <typename T>
 struct ChainScratch {
   Soa<T> n;                         ///< the constraint's unit direction
-  AlignedVector<T> f, g, inv_beta;  ///< Thomas: e/β of the entry before, g (then Δλ), 1/β
+  AlignedVector<T> f, g, inv_beta;  ///< Thomas: e/β (see eliminate), g (then Δλ), 1/β
   AlignedVector<T> lambda;          ///< λ accumulated over this substep's passes
 
   void prepare(size_t entries) {
@@ -632,13 +632,12 @@ class GridXpbd final : public Solver {
             live ? -(len - rest) - gamma * (ux * rx + uy * ry + uz * rz) : Real(0)};
   }
 
-  // One step of the forward elimination for constraint entry q after entry p (the previous
-  // constraint of the chain, or the zero entry before the first): f = e/β_p, β = b − f·e,
-  // g = r − f·g_p; wi is the inverse mass of the particle the two share. One division a step:
-  // the recurrence's latency, not its arithmetic, is what bounds it. T: Real or a Lanes vector.
+  // The coupling of constraint c to the constraint of entry p eliminated before it, wi being
+  // the inverse mass of the particle the two share: the off-diagonal entry e and f = e/β_p.
+  // T: Real or a Lanes vector.
   template <typename T>
   struct Pivot {
-    T e, f;  ///< the off-diagonal entry shared with entry p, and e/β_p
+    T e, f;
   };
   template <typename T>
   static Pivot<T> pivot(const ChainRowOf<T>& c, T wi, Real gamma, const T* __restrict nx,
@@ -647,15 +646,20 @@ class GridXpbd final : public Solver {
     const T e = -(1 + gamma) * wi * (nx[p] * c.nx + ny[p] * c.ny + nz[p] * c.nz);
     return {e, e * inv_beta[p]};
   }
+
+  // One step of the elimination for constraint entry q after entry p (the previous constraint
+  // of the chain, or the zero entry before the first): f = e/β_p, β = b − f·e, g = r − f·g_p,
+  // f kept at entry qf (q, or p when the substitution runs the other way). One division a step:
+  // the recurrence's latency, not its arithmetic, is what bounds it.
   template <typename T>
   static void eliminate(const ChainRowOf<T>& c, T wi, Real gamma, T alpha_lambda, T* __restrict nx,
                         T* __restrict ny, T* __restrict nz, T* __restrict fe, T* __restrict g,
-                        T* __restrict inv_beta, int p, int q) {
+                        T* __restrict inv_beta, int p, int q, int qf) {
     const auto [e, f] = pivot(c, wi, gamma, nx, ny, nz, inv_beta, p);
     nx[q] = c.nx;
     ny[q] = c.ny;
     nz[q] = c.nz;
-    fe[q] = f;
+    fe[qf] = f;
     inv_beta[q] = Real(1) / (c.b - f * e);
     g[q] = c.r - alpha_lambda - f * g[p];
   }
@@ -721,7 +725,7 @@ class GridXpbd final : public Solver {
               chain_row(bx, by, bz, mx, my, mz, w, i, q, !fixed[l], rest, alpha_tilde, gamma);
           const Real alpha_lambda = alpha_tilde * keep * lambda[q];
           if (t < k) {
-            eliminate(c, w[i], gamma, alpha_lambda, nx, ny, nz, fe, g, inv_beta, i, q);
+            eliminate(c, w[i], gamma, alpha_lambda, nx, ny, nz, fe, g, inv_beta, i, q, q);
           } else {
             const auto [e, fd] = pivot(c, w[i], gamma, nx, ny, nz, inv_beta, i);
             nx[q] = c.nx;
@@ -742,17 +746,14 @@ class GridXpbd final : public Solver {
 #pragma omp simd
       for (int l = l0; l < l1; ++l) {
         const int i = t * stride + l, q = i + stride, p = q + stride;
-        const ChainRow c = chain_row(bx, by, bz, mx, my, mz, w, i, q, !fixed[l], rest,
-                                     alpha_tilde, gamma);
-        const auto [e, fu] = pivot(c, w[q], gamma, nx, ny, nz, inv_beta, p);
-        fe[p] = fu;
+        const ChainRow c =
+            chain_row(bx, by, bz, mx, my, mz, w, i, q, !fixed[l], rest, alpha_tilde, gamma);
         if (t > k) {
-          nx[q] = c.nx;
-          ny[q] = c.ny;
-          nz[q] = c.nz;
-          inv_beta[q] = Real(1) / (c.b - fu * e);
-          g[q] = c.r - alpha_tilde * keep * lambda[q] - fu * g[p];
+          eliminate(c, w[q], gamma, alpha_tilde * keep * lambda[q], nx, ny, nz, fe, g, inv_beta, p,
+                    q, p);
         } else {
+          const auto [e, fu] = pivot(c, w[q], gamma, nx, ny, nz, inv_beta, p);
+          fe[p] = fu;
           twist_fe[l] = fu * e;
           twist_fg[l] = fu * g[p];
         }
@@ -898,7 +899,7 @@ class GridXpbd final : public Solver {
             if (t + 1 >= cols_) break;
             const ChainRowOf<Lane> c{tx[b][j], ty[b][j], tz[b][j], tb[b][j], tr[b][j]};
             eliminate<Lane>(c, tw[b][j], gamma, alpha_tilde * keep * lambda[q], nx, ny, nz, fe, g,
-                            inv_beta, q - groups, q);
+                            inv_beta, q - groups, q, q);
           }
         }
       }
