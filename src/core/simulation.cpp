@@ -113,7 +113,7 @@ bool Simulation::step() {
 int64_t estimated_memory(const SceneDef& def) {
   const int64_t n = int64_t{def.cloth.cols} * def.cloth.rows;
   // Measured per particle (memory() at 64×64 and 256×256): state 113 B, model 333–338 B;
-  // workspace symplectic 32 B, xpbd 136 B (84 B single; with line passes 248 B, 140 B
+  // workspace symplectic 32 B, xpbd 136 B (84 B single; with line passes 297 B, 164 B
   // single), implicit 781–789 B, fast 1036 B at 4096 particles rising to 1508 B at 65 536
   // (about 118 B per doubling).
   int64_t workspace = 0;
