@@ -199,11 +199,10 @@ class GridXpbd final : public Solver {
     const std::vector<int32_t>& pins = attachments_.pins();
     pin_at_.resize(pins.size());
     attachment_limit_.assign(pins.size() * static_cast<size_t>(slots), 0.0);
-    for (size_t k = 0; k < pins.size(); ++k) {
+    for (size_t k = 0; k < pins.size(); ++k)
       for (int32_t i = 0; i < n; ++i)
         attachment_limit_[k * slots + grid_.slot(i)] =
             static_cast<Real>(attachments_.limit(m, i, pins[k]));
-    }
     prepare_lines(w, def);
     if (def.substeps > 0) {
       substeps_ = def.substeps;
@@ -362,7 +361,7 @@ class GridXpbd final : public Solver {
     row_chains_.prepare(size_t(cols_ + 1) * row_groups());
     col_chains_.prepare(size_t(rows_ + 1) * grid_.stride);
     fixed_columns_ = std::find(col_fixed_.begin(), col_fixed_.end(), 1) != col_fixed_.end();
-    twist_ = rows_ > 1 ? twist_row() : 0;
+    twist_ = twist_row();
     for (AlignedVector<Real>* a : {&twist_beta_, &twist_g_, &twist_fe_, &twist_fg_, &twist_dl_})
       a->assign(grid_.stride, 0.0);
     const int32_t slots = grid_.size();
@@ -688,8 +687,10 @@ class GridXpbd final : public Solver {
   // the last stay zero and end the recurrences.
 
   // The twist: the constraint below the rows the row solve gives the first of two threads, so
-  // that each half moves the particles its thread solves the rows of; a row at least each side.
+  // that each half moves the particles its thread solves the rows of; a row at least each side
+  // (0 for a single row, which has no column constraints).
   int twist_row() const {
+    if (rows_ < 2) return 0;
     return std::clamp(Lanes<Real>::kLanes * (row_groups() / 2), 1, rows_ - 1) - 1;
   }
 
@@ -953,8 +954,9 @@ class GridXpbd final : public Solver {
                                     alpha_tilde, gamma, Real(0));
   }
 
-  // Long-range attachments on every free particle, pin after pin (project_attachment in
-  // long_range.h, branch-free so it vectorises; the limits are tabulated at set-up).
+  // Long-range attachments on every free particle, pin after pin: project_attachment's rule
+  // (long_range.h) written branch-free on the solver's arrays so it vectorises, with the limits
+  // tabulated at set-up.
   void apply_attachments() {
 #pragma omp for schedule(static)
     for (int r = 0; r < rows_; ++r) attachments_row(r);
