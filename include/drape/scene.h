@@ -121,6 +121,9 @@ struct SolverDef {
   /// the contacts and attachments before each pass; in [0, 10000]; 0 = none. Not with
   /// stiff_sweeps; a pinned cloth needs cloth.long_range with them.
   int line_passes = 0;
+  /// xpbd with line_passes: the over-relaxation ω of every line pass but the last (each chain's
+  /// Δλ times ω: block successive over-relaxation), in (0, 2); 1 = plain block Gauss–Seidel.
+  double line_relaxation = 1.3;
   double cg_tolerance = 1e-5;    ///< implicit: CG stops at this relative residual, in (0, 1)
   int cg_max_iterations = 2000;  ///< implicit: CG iteration cap per substep, in [1, 100000]
   /// fast: spectral radius estimate for Chebyshev acceleration (Wang 2015), in [0, 1);

@@ -37,7 +37,7 @@ struct BenchOptions {
   double max_updates = 3e10;  // skip runs estimated above this (about five minutes)
   bool search = true;         // position-based methods: find the fewest substeps that pass
   std::vector<int> stiff_sweeps{0, 2, 5, 10, 20};  // xpbd: tried with the substep search
-  std::vector<int> line_passes{2, 4, 6, 8};         // xpbd: tried too (0: none, as sweeps)
+  std::vector<int> line_passes{2, 3, 4, 5, 6, 8};  // xpbd: tried too (0: none, as sweeps)
   std::string out = "bench-results";
 };
 

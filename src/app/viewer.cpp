@@ -428,6 +428,8 @@ void Viewer::draw_panel() {
       }
       live |= ImGui::SliderInt("stiff sweeps", &edit_.solver.stiff_sweeps, 0, 40);
       live |= ImGui::SliderInt("line passes", &edit_.solver.line_passes, 0, 12);
+      if (edit_.solver.line_passes > 1)
+        live |= slider("line relaxation", edit_.solver.line_relaxation, 0.5, 1.9, "%.2f");
     }
     double dt_ms = 1000.0 * edit_.solver.dt;
     if (slider("frame dt (ms)", dt_ms, 1.0, 50.0, "%.2f")) {

@@ -179,6 +179,10 @@ void check(const SceneDef& def) {
           "needs cloth.long_range: true on a pinned cloth (its rows and columns, solved exactly, "
           "are rigid, and rigid chains carrying the cloth's weight to a pin become unstable at "
           "large steps; the attachments carry it)");
+  finite(s.line_relaxation, "solver.line_relaxation");
+  require(s.line_relaxation > 0.0 && s.line_relaxation < 2.0, "solver.line_relaxation",
+          "is " + num(s.line_relaxation) +
+              ", must be in (0, 2) (over-relaxation diverges from 2 up; 1 = none)");
   range(s.cg_tolerance, 0.0, 1.0, "solver.cg_tolerance", true);
   require(s.cg_tolerance < 1.0, "solver.cg_tolerance", "must be below 1");
   require(s.cg_max_iterations >= 1 && s.cg_max_iterations <= 100000, "solver.cg_max_iterations",

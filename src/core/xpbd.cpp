@@ -252,7 +252,8 @@ class GridXpbd final : public Solver {
           project_stiffest(h);
         }
         if (lines_) {
-          for (int pass = 0; pass < line_passes_; ++pass) solve_lines(w.colliders, h, pass == 0);
+          for (int pass = 0; pass < line_passes_; ++pass)
+            solve_lines(w.colliders, h, pass == 0, pass + 1 < line_passes_ ? relaxation_ : 1);
         } else if (attachments_.active()) {
           apply_attachments();
         }
@@ -333,6 +334,7 @@ class GridXpbd final : public Solver {
   void prepare_lines(const World& w, const SolverDef& def) {
     const ClothModel& m = w.model;
     line_passes_ = def.line_passes;
+    relaxation_ = static_cast<Real>(def.line_relaxation);
     row_family_ = col_family_ = -1;
     for (size_t k = 0; k < families_.size(); ++k) {
       const Family& f = families_[k];
@@ -557,8 +559,13 @@ class GridXpbd final : public Solver {
   // passes a cloth needs do not grow with its resolution. (Goldenthal et al. 2007 solve every
   // inextensibility constraint of a cloth so, with a sparse direct solver; rows and columns are
   // the grid's tridiagonal blocks of that system.) All rows are solved, then all columns: block
-  // Gauss–Seidel between the two. Columns are vectorised across columns (a row's slots are
-  // contiguous); rows along each row where they can be, and across rows in the recurrences.
+  // Gauss–Seidel between the two. Every pass but the last is over-relaxed by ω
+  // (solver.line_relaxation; block SOR): each chain's Δλ, and so its moves, times ω. A chain's
+  // own error is then overshot by ω − 1, which the next pass takes back, while what block
+  // Gauss–Seidel removes slowly, the coupling of rows and columns through the contacts and the
+  // cloth's folds, goes faster; the last pass is plain, so that the chains end solved. Columns are
+  // vectorised across columns (a row's slots are contiguous); rows along each row where they can
+  // be, and across rows in the recurrences.
 
   // A constraint of a chain through a fixed particle is swept spring by spring instead, twice per
   // pass, red–black: between two pins a row is a taut string whose exact solve is near singular.
@@ -573,7 +580,7 @@ class GridXpbd final : public Solver {
   // of them. A thread resolves the attachments and contacts of its own rows and solves those
   // rows at once, with no barrier between: a row's attachments and contacts move its own
   // particles only, and read the pins from pin_at_, not from the arrays other threads write.
-  void solve_lines(const std::vector<Collider>& colliders, Real h, bool first) {
+  void solve_lines(const std::vector<Collider>& colliders, Real h, bool first, Real omega) {
     const Family& rf = families_[row_family_];
     const Family& cf = families_[col_family_];
     const int parts = team_size();
@@ -585,7 +592,7 @@ class GridXpbd final : public Solver {
         if (attachments_.active()) attachments_row(r);
         contacts_row(colliders, r);
       }
-      solve_rows(rf, h, g0, g1, first);
+      solve_rows(rf, h, g0, g1, first, omega);
     }
     if (rows_ < 2) return;  // no columns
     // Each half's columns shared out, so that with two threads each has one half.
@@ -599,7 +606,8 @@ class GridXpbd final : public Solver {
 #pragma omp for schedule(static)
     for (int item = 0; item < 2 * ranges; ++item) {
       const int r = item % ranges;
-      substitute_columns(item / ranges, stride * r / ranges, stride * (r + 1) / ranges, first);
+      substitute_columns(item / ranges, stride * r / ranges, stride * (r + 1) / ranges, first,
+                         omega);
     }
     if (fixed_columns_) {
 #pragma omp for schedule(static)
@@ -664,13 +672,14 @@ class GridXpbd final : public Solver {
   }
 
   // The back substitution for entry q, the next constraint's entry qn holding Δλ already (the
-  // entry after the last reads as zero): Δλ = g/β − f_next·Δλ_next, into g and onto λ.
+  // entry after the last reads as zero): Δλ = g/β − f_next·Δλ_next into g, and ω·Δλ onto λ
+  // (the pass's relaxation, which scales the moves alike).
   template <typename T>
   static T substitute(T* __restrict fe, T* __restrict g, const T* __restrict inv_beta,
-                      T* __restrict lambda, Real keep, int q, int qn) {
+                      T* __restrict lambda, Real keep, Real omega, int q, int qn) {
     const T dl = g[q] * inv_beta[q] - fe[qn] * g[qn];
     g[q] = dl;
-    lambda[q] = keep * lambda[q] + dl;
+    lambda[q] = keep * lambda[q] + omega * dl;
     return dl;
   }
 
@@ -763,7 +772,7 @@ class GridXpbd final : public Solver {
   }
 
   // The twist's Δλ, then the substitution outwards of half `half` and its particles' moves.
-  void substitute_columns(int half, int l0, int l1, bool first) {
+  void substitute_columns(int half, int l0, int l1, bool first, Real omega) {
     const int stride = grid_.stride, k = twist_, last = rows_ - 1;
     Real *__restrict mx = move_.x.data(), *__restrict my = move_.y.data(),
                      *__restrict mz = move_.z.data();
@@ -790,20 +799,22 @@ class GridXpbd final : public Solver {
         const int q = (k + 1) * stride + l;
         const Real dl = (twist_g[l] - twist_fg[l]) / (twist_beta[l] - twist_fe[l]);
         g[q] = dl;
-        lambda[q] = keep * lambda[q] + dl;
+        lambda[q] = keep * lambda[q] + omega * dl;
       }
       for (int t = k - 1; t >= 0; --t) {
 #pragma omp simd
         for (int l = l0; l < l1; ++l) {
           const int q = (t + 1) * stride + l, qn = q + stride;  // also particle t + 1 and t + 2
-          const Real dl = substitute(fe, g, inv_beta, lambda, keep, q, qn), dn = g[qn];
+          const Real dl = omega * substitute(fe, g, inv_beta, lambda, keep, omega, q, qn),
+                     dn = omega * g[qn];
           move(q, nx[q] * dl - nx[qn] * dn, ny[q] * dl - ny[qn] * dn, nz[q] * dl - nz[qn] * dn);
         }
       }
 #pragma omp simd
       for (int l = l0; l < l1; ++l) {  // the top particle
         const int q = stride + l;
-        move(l, -nx[q] * g[q], -ny[q] * g[q], -nz[q] * g[q]);
+        const Real dl = omega * g[q];
+        move(l, -nx[q] * dl, -ny[q] * dl, -nz[q] * dl);
       }
       return;
     }
@@ -820,16 +831,17 @@ class GridXpbd final : public Solver {
         const int q = (t + 1) * stride + l, qp = q - stride;  // also particle t + 1 and t
         const Real dl = g[q] * inv_beta[q] - fe[q] * dp[l];
         g[q] = dl;
-        lambda[q] = keep * lambda[q] + dl;
-        move(qp, nx[qp] * dp[l] - nx[q] * dl, ny[qp] * dp[l] - ny[q] * dl,
-             nz[qp] * dp[l] - nz[q] * dl);
+        lambda[q] = keep * lambda[q] + omega * dl;
+        const Real a = omega * dp[l], b = omega * dl;
+        move(qp, nx[qp] * a - nx[q] * b, ny[qp] * a - ny[q] * b, nz[qp] * a - nz[q] * b);
       }
     }
     const Real* __restrict dp = previous(last);
 #pragma omp simd
     for (int l = l0; l < l1; ++l) {  // the bottom particle
       const int qp = last * stride + l;
-      move(qp, nx[qp] * dp[l], ny[qp] * dp[l], nz[qp] * dp[l]);
+      const Real a = omega * dp[l];
+      move(qp, nx[qp] * a, ny[qp] * a, nz[qp] * a);
     }
   }
 
@@ -838,7 +850,7 @@ class GridXpbd final : public Solver {
   // column residue, as the spring sweeps do, by slot into rows_n_, rows_b_, rows_r_, rows_dl_.
   // The recurrences run across rows, a lane a row, on tiles of those arrays transposed (Lanes):
   // constraint t of the rows of group G has entry (t + 1)·groups + G.
-  void solve_rows(const Family& f, Real h, int g0, int g1, bool first) {
+  void solve_rows(const Family& f, Real h, int g0, int g1, bool first, Real omega) {
     constexpr int L = Lanes<Real>::kLanes;
     const int r0 = g0 * L, r1 = std::min(g1 * L, rows_), stride = grid_.stride;
     const int block = grid_.block, groups = row_groups();
@@ -911,7 +923,7 @@ class GridXpbd final : public Solver {
           for (int b = 3; b >= 0; --b) {
             const int t = 4 * (k0 + j) + b, q = (t + 1) * groups + G;
             td[b][j] = t + 1 < cols_
-                           ? substitute<Lane>(fe, g, inv_beta, lambda, keep, q, q + groups)
+                           ? substitute<Lane>(fe, g, inv_beta, lambda, keep, omega, q, q + groups)
                            : Lane{};
           }
         }
@@ -927,7 +939,7 @@ class GridXpbd final : public Solver {
 #pragma omp simd
         for (int k = u.k_begin; k < u.k_end; ++k) {
           const int i = u.i0 + k, j = u.j0 + k;
-          const Real s = sdl[i];
+          const Real s = omega * sdl[i];
           mx[i] -= w[i] * s * sx[i];
           my[i] -= w[i] * s * sy[i];
           mz[i] -= w[i] * s * sz[i];
@@ -1054,6 +1066,7 @@ class GridXpbd final : public Solver {
   AlignedVector<Real> attachment_limit_;  ///< per pin, per slot, m
   // Line passes (solver.line_passes).
   int line_passes_ = 0;               ///< as asked
+  Real relaxation_ = 1;               ///< ω of every pass but the last (solver.line_relaxation)
   bool lines_ = false;                ///< whether they run now (see prepare_lines)
   int row_family_ = -1, col_family_ = -1;  ///< the structural families along rows and columns
   std::vector<int32_t> col_slot_;          ///< slot of column c within a row

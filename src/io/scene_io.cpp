@@ -333,6 +333,7 @@ SceneDef parse_scene(const json& j, const std::string& source) {
       r.integer("iterations", def.solver.iterations);
       r.integer("stiff_sweeps", def.solver.stiff_sweeps);
       r.integer("line_passes", def.solver.line_passes);
+      r.number("line_relaxation", def.solver.line_relaxation);
       r.number("cg_tolerance", def.solver.cg_tolerance);
       r.integer("cg_max_iterations", def.solver.cg_max_iterations);
       r.number("chebyshev_rho", def.solver.chebyshev_rho);
@@ -460,6 +461,7 @@ json to_json(const SceneDef& d) {
         {"iterations", d.solver.iterations},
         {"stiff_sweeps", d.solver.stiff_sweeps},
         {"line_passes", d.solver.line_passes},
+        {"line_relaxation", d.solver.line_relaxation},
         {"cg_tolerance", d.solver.cg_tolerance},
         {"cg_max_iterations", d.solver.cg_max_iterations},
         {"chebyshev_rho", d.solver.chebyshev_rho}}},
