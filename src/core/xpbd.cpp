@@ -671,16 +671,20 @@ class GridXpbd final : public Solver {
     g[q] = c.r - alpha_lambda - f * g[p];
   }
 
-  // The back substitution for entry q, the next constraint's entry qn holding Δλ already (the
-  // entry after the last reads as zero): Δλ = g/β − f_next·Δλ_next into g, and ω·Δλ onto λ
-  // (the pass's relaxation, which scales the moves alike).
+  // Entry q's Δλ into g, and ω·Δλ onto λ (the pass's relaxation, which scales the moves alike).
   template <typename T>
-  static T substitute(T* __restrict fe, T* __restrict g, const T* __restrict inv_beta,
-                      T* __restrict lambda, Real keep, Real omega, int q, int qn) {
-    const T dl = g[q] * inv_beta[q] - fe[qn] * g[qn];
+  static T take(T* __restrict g, T* __restrict lambda, Real keep, Real omega, int q, T dl) {
     g[q] = dl;
     lambda[q] = keep * lambda[q] + omega * dl;
     return dl;
+  }
+
+  // The back substitution for entry q, from the next constraint's f and Δλ (zero after the
+  // last): Δλ = g/β − f_next·Δλ_next, taken.
+  template <typename T>
+  static T substitute(T* __restrict g, const T* __restrict inv_beta, T* __restrict lambda,
+                      Real keep, Real omega, int q, T f_next, T dl_next) {
+    return take(g, lambda, keep, omega, q, g[q] * inv_beta[q] - f_next * dl_next);
   }
 
   // The columns are solved from both ends at once (a twisted factorisation, as in the "burn at
@@ -779,9 +783,8 @@ class GridXpbd final : public Solver {
     ChainScratch<Real>& cs = col_chains_;
     const Real *__restrict nx = cs.n.x.data(), *__restrict ny = cs.n.y.data(),
                            *__restrict nz = cs.n.z.data();
-    Real *__restrict fe = cs.f.data(), *__restrict g = cs.g.data(),
-                     *__restrict inv_beta = cs.inv_beta.data();
-    Real* __restrict lambda = cs.lambda.data();
+    const Real *__restrict fe = cs.f.data(), *__restrict inv_beta = cs.inv_beta.data();
+    Real *__restrict g = cs.g.data(), *__restrict lambda = cs.lambda.data();
     const Real *__restrict twist_beta = twist_beta_.data(), *__restrict twist_g = twist_g_.data(),
                            *__restrict twist_fe = twist_fe_.data(),
                            *__restrict twist_fg = twist_fg_.data();
@@ -797,15 +800,13 @@ class GridXpbd final : public Solver {
 #pragma omp simd
       for (int l = l0; l < l1; ++l) {
         const int q = (k + 1) * stride + l;
-        const Real dl = (twist_g[l] - twist_fg[l]) / (twist_beta[l] - twist_fe[l]);
-        g[q] = dl;
-        lambda[q] = keep * lambda[q] + omega * dl;
+        take(g, lambda, keep, omega, q, (twist_g[l] - twist_fg[l]) / (twist_beta[l] - twist_fe[l]));
       }
       for (int t = k - 1; t >= 0; --t) {
 #pragma omp simd
         for (int l = l0; l < l1; ++l) {
           const int q = (t + 1) * stride + l, qn = q + stride;  // also particle t + 1 and t + 2
-          const Real dl = omega * substitute(fe, g, inv_beta, lambda, keep, omega, q, qn),
+          const Real dl = omega * substitute(g, inv_beta, lambda, keep, omega, q, fe[qn], g[qn]),
                      dn = omega * g[qn];
           move(q, nx[q] * dl - nx[qn] * dn, ny[q] * dl - ny[qn] * dn, nz[q] * dl - nz[qn] * dn);
         }
@@ -829,9 +830,7 @@ class GridXpbd final : public Solver {
 #pragma omp simd
       for (int l = l0; l < l1; ++l) {
         const int q = (t + 1) * stride + l, qp = q - stride;  // also particle t + 1 and t
-        const Real dl = g[q] * inv_beta[q] - fe[q] * dp[l];
-        g[q] = dl;
-        lambda[q] = keep * lambda[q] + omega * dl;
+        const Real dl = substitute(g, inv_beta, lambda, keep, omega, q, fe[q], dp[l]);
         const Real a = omega * dp[l], b = omega * dl;
         move(qp, nx[qp] * a - nx[q] * b, ny[qp] * a - ny[q] * b, nz[qp] * a - nz[q] * b);
       }
@@ -922,9 +921,9 @@ class GridXpbd final : public Solver {
         for (int j = L - 1; j >= 0; --j) {
           for (int b = 3; b >= 0; --b) {
             const int t = 4 * (k0 + j) + b, q = (t + 1) * groups + G;
-            td[b][j] = t + 1 < cols_
-                           ? substitute<Lane>(fe, g, inv_beta, lambda, keep, omega, q, q + groups)
-                           : Lane{};
+            td[b][j] = t + 1 < cols_ ? substitute<Lane>(g, inv_beta, lambda, keep, omega, q,
+                                                        fe[q + groups], g[q + groups])
+                                     : Lane{};
           }
         }
         for (int b = 0; b < 4; ++b)
