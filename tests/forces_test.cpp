@@ -295,6 +295,60 @@ TEST(Collider, PositionContactProjectsOutAndAppliesCoulombFrictionToTheMove) {
   EXPECT_NEAR((m - Vec3(0, 0.51, 0)).norm(), 0.0, 1e-15);
 }
 
+// Solvers skip runs of particles whose clearance is positive: it must be positive only where
+// apply() leaves the move as it is, and it must not be needlessly cautious far from the surface.
+template <typename Real>
+void expect_clearance_is_safe(const Collider& c, double reach) {
+  const PositionContact<Real> contact(c);
+  int skipped = 0, touched = 0;
+  for (int k = 0; k < 4000; ++k) {
+    // Points from well inside to well outside the surface, densest near it.
+    const double t = 1.5 * std::sin(0.37 * k);
+    const Vec3 dir = random_vec(k).normalized();
+    const Vec3 p = c.type == ColliderType::sphere
+                       ? Vec3((reach + t * t * t * reach) * dir)
+                       : Vec3(dir + (reach + t * t * t - dir.dot(c.normal)) * c.normal);
+    const Real px = static_cast<Real>(p.x()), py = static_cast<Real>(p.y()),
+               pz = static_cast<Real>(p.z());
+    const Vec3 move = 0.01 * random_vec(k + 7);
+    Real mx = static_cast<Real>(move.x()), my = static_cast<Real>(move.y()),
+         mz = static_cast<Real>(move.z());
+    const Real before[3] = {mx, my, mz};
+    contact.apply(true, px, py, pz, mx, my, mz);
+    const bool moved = mx != before[0] || my != before[1] || mz != before[2];
+    touched += moved;
+    if (contact.clearance(px, py, pz) > 0) {
+      ++skipped;
+      EXPECT_FALSE(moved) << "point " << k;
+    }
+    // 1% past the reach is clear.
+    const Real far = static_cast<Real>(c.type == ColliderType::sphere ? 1.01 : 1.0 + 0.01 / reach);
+    if (t > 0.5) {
+      EXPECT_GT(contact.clearance(far * px, far * py, far * pz), 0) << "point " << k;
+    }
+  }
+  EXPECT_GT(skipped, 1000);
+  EXPECT_GT(touched, 1000);
+}
+
+TEST(Collider, PositionContactClearanceIsPositiveOnlyWhereTheContactDoesNothing) {
+  ColliderDef sphere;
+  sphere.center = Vec3(1, 2, 3);  // clearance takes x minus the centre
+  sphere.radius = 0.5;
+  sphere.thickness = 0.01;
+  sphere.friction = 0.4;
+  expect_clearance_is_safe<double>(make_collider(sphere), 0.51);
+  expect_clearance_is_safe<float>(make_collider(sphere), 0.51);
+  ColliderDef plane;
+  plane.type = ColliderType::plane;
+  plane.center = Vec3::Zero();
+  plane.normal = Vec3(0.3, 1, 0.2);
+  plane.thickness = 0.02;
+  plane.friction = 0.4;
+  expect_clearance_is_safe<double>(make_collider(plane), 0.02);
+  expect_clearance_is_safe<float>(make_collider(plane), 0.02);
+}
+
 TEST(Collider, PositionContactOnAPlaneInSinglePrecision) {
   ColliderDef def;
   def.type = ColliderType::plane;

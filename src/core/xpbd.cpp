@@ -20,6 +20,7 @@
 #include <array>
 #include <cmath>
 #include <cstring>
+#include <limits>
 #include <stdexcept>
 #include <string>
 
@@ -1026,7 +1027,14 @@ class GridXpbd final : public Solver {
     }
   }
 
-  // The contacts of row r, collider after collider; branch-free over the row so it vectorises.
+  // The contacts of row r, collider after collider; branch-free over the row so it vectorises,
+  // in runs of kContactRun slots, each skipped after a cheaper test (no square root) where none
+  // of it can touch. A skipped particle is one that apply() would leave as it is: the same
+  // result. A run holds every fourth column of a stretch of the row (the residue blocks), so it
+  // is mostly rows away from a collider that are skipped; on drape-128 that took about 0.2 ms
+  // off a one-thread frame of 6 ms. Shorter runs, across the four blocks, were slower: their
+  // loops are too short to vectorise without scalar remainders.
+  static constexpr int kContactRun = 16;
   void contacts_row(const std::vector<Collider>& colliders, int r) {
     const int i0 = r * grid_.stride;
     const Real* __restrict w = inv_mass_.data() + i0;
@@ -1038,10 +1046,20 @@ class GridXpbd final : public Solver {
       const PositionContact<Real> contact(col);
       const Real cx = static_cast<Real>(col.center.x()), cy = static_cast<Real>(col.center.y()),
                  cz = static_cast<Real>(col.center.z());
+      for (int c0 = 0; c0 < grid_.stride; c0 += kContactRun) {
+        const int c1 = std::min(grid_.stride, c0 + kContactRun);
+        Real clearance = std::numeric_limits<Real>::max();
+#pragma omp simd reduction(min : clearance)
+        for (int c = c0; c < c1; ++c)
+          clearance = std::min(
+              clearance,
+              contact.clearance((bx[c] - cx) + mx[c], (by[c] - cy) + my[c], (bz[c] - cz) + mz[c]));
+        if (clearance > 0) continue;
 #pragma omp simd
-      for (int c = 0; c < grid_.stride; ++c)
-        contact.apply(w[c] > Real(0), (bx[c] - cx) + mx[c], (by[c] - cy) + my[c],
-                      (bz[c] - cz) + mz[c], mx[c], my[c], mz[c]);
+        for (int c = c0; c < c1; ++c)
+          contact.apply(w[c] > Real(0), (bx[c] - cx) + mx[c], (by[c] - cy) + my[c],
+                        (bz[c] - cz) + mz[c], mx[c], my[c], mz[c]);
+      }
     }
   }
 
