@@ -19,15 +19,18 @@ namespace {
 
 using testing_support::shipped;
 
-// FNV-1a over the bytes of every position and velocity.
+// FNV-1a over the bytes of every position, velocity, normal and area.
 uint64_t state_hash(const ClothState& s) {
   uint64_t h = 1469598103934665603ULL;
-  auto mix = [&h](const std::vector<Vec3>& values) {
+  auto mix = [&h](const auto& values) {
     const auto* bytes = reinterpret_cast<const unsigned char*>(values.data());
-    for (size_t k = 0; k < values.size() * sizeof(Vec3); ++k) h = (h ^ bytes[k]) * 1099511628211ULL;
+    for (size_t k = 0; k < values.size() * sizeof(values[0]); ++k)
+      h = (h ^ bytes[k]) * 1099511628211ULL;
   };
   mix(s.x);
   mix(s.v);
+  mix(s.normal);
+  mix(s.area);
   return h;
 }
 

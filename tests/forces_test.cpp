@@ -225,6 +225,40 @@ TEST(Normals, AreUnitAndAreaWeighted) {
   for (const Vec3& n : s.normal) EXPECT_LT((n - Vec3::UnitY()).norm(), 1e-12);
 }
 
+TEST(Normals, OnACrumpledGridAreEachTrianglesCrossProductSummedAtItsCorners) {
+  // 7 × 5, so that rows and columns cannot be mixed up, crumpled out of its plane.
+  SceneDef def;
+  def.cloth.cols = 7;
+  def.cloth.rows = 5;
+  ClothModel m = build_grid(def.cloth);
+  ClothState s = initial_state(def.cloth, m);
+  for (int32_t p = 0; p < m.size(); ++p) s.x[p] += 0.3 * random_vec(p);
+  update_normals(m, s);
+  // The definition, scattered triangle by triangle.
+  std::vector<Vec3> sum(m.size(), Vec3::Zero());
+  std::vector<double> twice_area(m.size(), 0.0);
+  for (const Triangle& t : m.triangles) {
+    const Vec3 cross = (s.x[t[1]] - s.x[t[0]]).cross(s.x[t[2]] - s.x[t[0]]);
+    for (int32_t p : t) {
+      sum[p] += cross;
+      twice_area[p] += cross.norm();
+    }
+  }
+  for (int32_t p = 0; p < m.size(); ++p) {
+    EXPECT_LT((s.normal[p] - sum[p].normalized()).norm(), 1e-14) << p;
+    EXPECT_NEAR(s.area[p], twice_area[p] / 6.0, 1e-15) << p;
+  }
+  // The grid's shortcut against the gather over any triangles.
+  ASSERT_TRUE(m.grid_triangles);
+  ClothState general = s;
+  m.grid_triangles = false;
+  update_normals(m, general);
+  for (int32_t p = 0; p < m.size(); ++p) {
+    EXPECT_LT((s.normal[p] - general.normal[p]).norm(), 1e-15) << p;
+    EXPECT_NEAR(s.area[p], general.area[p], 1e-16) << p;
+  }
+}
+
 TEST(Collider, ContactProjectsOutAndAppliesCoulombFriction) {
   ColliderDef def;
   def.type = ColliderType::plane;

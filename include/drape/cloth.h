@@ -38,6 +38,9 @@ struct ClothModel {
   std::vector<Spring> springs;
   std::vector<int32_t> colour_begin;
   std::vector<Triangle> triangles;  ///< counter-clockwise seen from the front
+  /// The triangles are build_grid's, two per quad in its order (update_normals then takes the
+  /// grid's shortcut).
+  bool grid_triangles = false;
   /// The triangles around each particle: particle p's are
   /// vertex_triangles[vertex_triangle_begin[p] .. vertex_triangle_begin[p + 1]).
   std::vector<int32_t> vertex_triangle_begin;

@@ -1,5 +1,7 @@
 #include <algorithm>
 #include <cstdint>
+#include <utility>
+#include <vector>
 
 #include "drape/cloth.h"
 #include "parallel.h"
@@ -109,6 +111,7 @@ ClothModel build_grid(const ClothDef& def) {
       m.triangles.push_back({right, below, below + 1});
     }
   }
+  m.grid_triangles = true;
   m.vertex_triangle_begin.assign(n + 1, 0);
   for (const Triangle& t : m.triangles)
     for (int32_t p : t) ++m.vertex_triangle_begin[p + 1];
@@ -156,24 +159,101 @@ std::vector<double> spring_sums(const ClothModel& model, double Spring::*field) 
   return sum;
 }
 
-void update_normals(const ClothModel& model, ClothState& state) {
+namespace {
+
+// A triangle's cross product, its normal times twice its area, and that length.
+struct Face {
+  Vec3 cross;
+  double twice_area;
+};
+
+inline Face face(const std::vector<Vec3>& x, const Triangle& t) {
+  const Vec3 cross = (x[t[1]] - x[t[0]]).cross(x[t[2]] - x[t[0]]);
+  return {cross, cross.norm()};
+}
+
+// Summing a particle's faces' cross products weights their normals by area; the particle owns a
+// third of each triangle.
+struct FaceSum {
+  Vec3 cross = Vec3::Zero();
+  double twice_area = 0.0;
+
+  void add(const Face& f) {
+    cross += f.cross;
+    twice_area += f.twice_area;
+  }
+  void store(ClothState& s, int32_t p) const {
+    const double len = cross.norm();
+    s.area[p] = twice_area / 6.0;
+    s.normal[p] = len > 0.0 ? Vec3(cross * (1.0 / len)) : Vec3::Zero();
+  }
+};
+
+// Any triangles: each particle gathers its own (no scatter), so any thread count gives the
+// same bits; every face is computed once per corner.
+void gather_normals(const ClothModel& model, ClothState& state) {
   const int32_t n = model.size();
-  // Gathered per particle (no scatter), so any thread count gives the same bits.
 #pragma omp parallel for schedule(static) if (worth_threads(n))
   for (int32_t p = 0; p < n; ++p) {
-    // Each cross product is the triangle's normal times twice its area: summing them weights
-    // by area; the particle owns a third of each triangle.
-    Vec3 sum = Vec3::Zero();
-    double twice_area = 0.0;
-    for (int32_t k = model.vertex_triangle_begin[p]; k < model.vertex_triangle_begin[p + 1]; ++k) {
-      const Triangle& t = model.triangles[model.vertex_triangles[k]];
-      const Vec3 cross = (state.x[t[1]] - state.x[t[0]]).cross(state.x[t[2]] - state.x[t[0]]);
-      sum += cross;
-      twice_area += cross.norm();
+    FaceSum sum;
+    for (int32_t k = model.vertex_triangle_begin[p]; k < model.vertex_triangle_begin[p + 1]; ++k)
+      sum.add(face(state.x, model.triangles[model.vertex_triangles[k]]));
+    sum.store(state, p);
+  }
+}
+
+// build_grid's triangles: every face once. Row r's particles lie on the quads of rows r − 1
+// and r, whose faces a thread keeps from one row to the next (two rows of them, per thread);
+// each particle sums its faces in the order of their index, as gather_normals does.
+void grid_normals(const ClothModel& m, ClothState& s) {
+  const int quads = m.cols - 1;  // per row of quads, each two faces: (i, below, right) first
+#pragma omp parallel if (worth_threads(m.size()))
+  {
+    thread_local std::vector<Face> faces;
+    faces.resize(4 * static_cast<size_t>(quads));
+    Face *above = faces.data(), *below = above + 2 * quads;
+    int below_row = -2;  // the row of quads `below` holds
+    auto fill = [&](int q, Face* f) {
+      for (int k = 0; k < 2 * quads; ++k) f[k] = face(s.x, m.triangles[2 * q * quads + k]);
+    };
+#pragma omp for schedule(static)
+    for (int r = 0; r < m.rows; ++r) {
+      if (below_row == r - 1) {
+        std::swap(above, below);
+      } else if (r > 0) {
+        fill(r - 1, above);
+      }
+      if (r + 1 < m.rows) fill(r, below);
+      below_row = r;
+      for (int c = 0; c < m.cols; ++c) {
+        FaceSum sum;
+        if (r > 0) {
+          if (c > 0) sum.add(above[2 * c - 1]);
+          if (c < quads) {
+            sum.add(above[2 * c]);
+            sum.add(above[2 * c + 1]);
+          }
+        }
+        if (r + 1 < m.rows) {
+          if (c > 0) {
+            sum.add(below[2 * c - 2]);
+            sum.add(below[2 * c - 1]);
+          }
+          if (c < quads) sum.add(below[2 * c]);
+        }
+        sum.store(s, m.index(c, r));
+      }
     }
-    const double len = sum.norm();
-    state.area[p] = twice_area / 6.0;
-    state.normal[p] = len > 0.0 ? Vec3(sum / len) : Vec3::Zero();
+  }
+}
+
+}  // namespace
+
+void update_normals(const ClothModel& model, ClothState& state) {
+  if (model.grid_triangles) {
+    grid_normals(model, state);
+  } else {
+    gather_normals(model, state);
   }
 }
 
