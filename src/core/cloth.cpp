@@ -1,4 +1,5 @@
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <utility>
 #include <vector>
@@ -203,18 +204,52 @@ void gather_normals(const ClothModel& model, ClothState& state) {
 }
 
 // build_grid's triangles: every face once. Row r's particles lie on the quads of rows r − 1
-// and r, whose faces a thread keeps from one row to the next (two rows of them, per thread);
-// each particle sums its faces in the order of their index, as gather_normals does.
+// and r, whose faces a thread keeps from one row to the next (two rows of them, per thread, as
+// arrays of numbers so that the loops vectorise). Each particle sums its faces in the order of
+// their index, as gather_normals does; a row's missing neighbours (its ends, and the rows past
+// the cloth's edges) read as zero faces, which change no sum.
 void grid_normals(const ClothModel& m, ClothState& s) {
-  const int quads = m.cols - 1;  // per row of quads, each two faces: (i, below, right) first
+  const int cols = m.cols, quads = cols - 1;
+  // A row of quads: for each of its two faces (i, below, right) and (right, below, below + 1),
+  // the cross product's x, y, z and its length, each an array of quads + 2 numbers whose first
+  // and last are the zero faces left and right of the row.
+  constexpr int kArrays = 8;
+  const int span = quads + 2;
+  const double* x = s.x.data()->data();  // Vec3 holds its three numbers contiguously
+  static_assert(sizeof(Vec3) == 3 * sizeof(double));
 #pragma omp parallel if (worth_threads(m.size()))
   {
-    thread_local std::vector<Face> faces;
-    faces.resize(4 * static_cast<size_t>(quads));
-    Face *above = faces.data(), *below = above + 2 * quads;
-    int below_row = -2;  // the row of quads `below` holds
-    auto fill = [&](int q, Face* f) {
-      for (int k = 0; k < 2 * quads; ++k) f[k] = face(s.x, m.triangles[2 * q * quads + k]);
+    thread_local std::vector<double> faces;
+    faces.assign(3 * kArrays * static_cast<size_t>(span), 0.0);
+    double *above = faces.data(), *below = above + kArrays * span;
+    const double* none = below + kArrays * span;  // a row of zero faces
+    int below_row = -2;                           // the row of quads `below` holds
+    auto fill = [&](int q, double* f) {
+      double* out[kArrays];
+      for (int a = 0; a < kArrays; ++a) out[a] = f + a * span + 1;
+      const double* top = x + 3 * static_cast<size_t>(q) * cols;
+      const double* bottom = top + 3 * cols;
+#pragma omp simd
+      for (int c = 0; c < quads; ++c) {
+        const double* i = top + 3 * c;  // (c, q); right: i + 3; below: bottom + 3c
+        const double* d = bottom + 3 * c;
+        // (i, below, right): (below − i) × (right − i).
+        const double ux = d[0] - i[0], uy = d[1] - i[1], uz = d[2] - i[2];
+        const double vx = i[3] - i[0], vy = i[4] - i[1], vz = i[5] - i[2];
+        const double ax = uy * vz - uz * vy, ay = uz * vx - ux * vz, az = ux * vy - uy * vx;
+        // (right, below, below + 1): (below − right) × (below + 1 − right).
+        const double px = d[0] - i[3], py = d[1] - i[4], pz = d[2] - i[5];
+        const double qx = d[3] - i[3], qy = d[4] - i[4], qz = d[5] - i[5];
+        const double bx = py * qz - pz * qy, by = pz * qx - px * qz, bz = px * qy - py * qx;
+        out[0][c] = ax;
+        out[1][c] = ay;
+        out[2][c] = az;
+        out[3][c] = std::sqrt(ax * ax + ay * ay + az * az);
+        out[4][c] = bx;
+        out[5][c] = by;
+        out[6][c] = bz;
+        out[7][c] = std::sqrt(bx * bx + by * by + bz * bz);
+      }
     };
 #pragma omp for schedule(static)
     for (int r = 0; r < m.rows; ++r) {
@@ -225,23 +260,26 @@ void grid_normals(const ClothModel& m, ClothState& s) {
       }
       if (r + 1 < m.rows) fill(r, below);
       below_row = r;
-      for (int c = 0; c < m.cols; ++c) {
-        FaceSum sum;
-        if (r > 0) {
-          if (c > 0) sum.add(above[2 * c - 1]);
-          if (c < quads) {
-            sum.add(above[2 * c]);
-            sum.add(above[2 * c + 1]);
-          }
+      // Particle c's faces, by index: the upper row's second face of quad c − 1, both of quad c;
+      // the lower row's both of quad c − 1, first of quad c. Slot c + 1 of an array is quad c.
+      const double* up = r > 0 ? above : none;
+      const double* down = r + 1 < m.rows ? below : none;
+      Vec3* normal = s.normal.data() + static_cast<size_t>(r) * cols;
+      double* area = s.area.data() + static_cast<size_t>(r) * cols;
+#pragma omp simd
+      for (int c = 0; c < cols; ++c) {
+        double sum[4];
+        for (int k = 0; k < 4; ++k) {
+          // [0]: quad c − 1, [1]: quad c; a, b the upper row's first and second faces, e, f
+          // the lower row's.
+          const double *a = up + k * span + c, *b = up + (4 + k) * span + c;
+          const double *e = down + k * span + c, *f = down + (4 + k) * span + c;
+          sum[k] = 0.0 + b[0] + a[1] + b[1] + e[0] + f[0] + e[1];
         }
-        if (r + 1 < m.rows) {
-          if (c > 0) {
-            sum.add(below[2 * c - 2]);
-            sum.add(below[2 * c - 1]);
-          }
-          if (c < quads) sum.add(below[2 * c]);
-        }
-        sum.store(s, m.index(c, r));
+        const double len = std::sqrt(sum[0] * sum[0] + sum[1] * sum[1] + sum[2] * sum[2]);
+        const double inv = len > 0.0 ? 1.0 / len : 0.0;
+        area[c] = sum[3] / 6.0;
+        normal[c] = Vec3(sum[0] * inv, sum[1] * inv, sum[2] * inv);
       }
     }
   }
