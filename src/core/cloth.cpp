@@ -162,44 +162,25 @@ std::vector<double> spring_sums(const ClothModel& model, double Spring::*field) 
 
 namespace {
 
-// A triangle's cross product, its normal times twice its area, and that length.
-struct Face {
-  Vec3 cross;
-  double twice_area;
-};
-
-inline Face face(const std::vector<Vec3>& x, const Triangle& t) {
-  const Vec3 cross = (x[t[1]] - x[t[0]]).cross(x[t[2]] - x[t[0]]);
-  return {cross, cross.norm()};
-}
-
-// Summing a particle's faces' cross products weights their normals by area; the particle owns a
-// third of each triangle.
-struct FaceSum {
-  Vec3 cross = Vec3::Zero();
-  double twice_area = 0.0;
-
-  void add(const Face& f) {
-    cross += f.cross;
-    twice_area += f.twice_area;
-  }
-  void store(ClothState& s, int32_t p) const {
-    const double len = cross.norm();
-    s.area[p] = twice_area / 6.0;
-    s.normal[p] = len > 0.0 ? Vec3(cross * (1.0 / len)) : Vec3::Zero();
-  }
-};
-
 // Any triangles: each particle gathers its own (no scatter), so any thread count gives the
-// same bits; every face is computed once per corner.
+// same bits; every face is computed once per corner. Each cross product is the triangle's
+// normal times twice its area: summing them weights by area; the particle owns a third of each
+// triangle.
 void gather_normals(const ClothModel& model, ClothState& state) {
   const int32_t n = model.size();
 #pragma omp parallel for schedule(static) if (worth_threads(n))
   for (int32_t p = 0; p < n; ++p) {
-    FaceSum sum;
-    for (int32_t k = model.vertex_triangle_begin[p]; k < model.vertex_triangle_begin[p + 1]; ++k)
-      sum.add(face(state.x, model.triangles[model.vertex_triangles[k]]));
-    sum.store(state, p);
+    Vec3 sum = Vec3::Zero();
+    double twice_area = 0.0;
+    for (int32_t k = model.vertex_triangle_begin[p]; k < model.vertex_triangle_begin[p + 1]; ++k) {
+      const Triangle& t = model.triangles[model.vertex_triangles[k]];
+      const Vec3 cross = (state.x[t[1]] - state.x[t[0]]).cross(state.x[t[2]] - state.x[t[0]]);
+      sum += cross;
+      twice_area += cross.norm();
+    }
+    const double len = sum.norm();
+    state.area[p] = twice_area / 6.0;
+    state.normal[p] = len > 0.0 ? Vec3(sum * (1.0 / len)) : Vec3::Zero();
   }
 }
 
@@ -219,8 +200,12 @@ void grid_normals(const ClothModel& m, ClothState& s) {
   static_assert(sizeof(Vec3) == 3 * sizeof(double));
 #pragma omp parallel if (worth_threads(m.size()))
   {
+    // Zeroed when its size changes only: the zero faces and the zero row are never written.
+    // A team's threads live on from one parallel region to the next, so after the first call
+    // (initial_state's) stepping allocates nothing here.
     thread_local std::vector<double> faces;
-    faces.assign(3 * kArrays * static_cast<size_t>(span), 0.0);
+    const size_t size = 3 * kArrays * static_cast<size_t>(span);
+    if (faces.size() != size) faces.assign(size, 0.0);
     double *above = faces.data(), *below = above + kArrays * span;
     const double* none = below + kArrays * span;  // a row of zero faces
     int below_row = -2;                           // the row of quads `below` holds
