@@ -572,12 +572,13 @@ TEST(SolverKeys, MethodsAndLongRangeReadWriteAndRoundTrip) {
   EXPECT_EQ(s.solver.iterations, 7);
   EXPECT_EQ(s.solver.stiff_sweeps, 3);
   EXPECT_EQ(s.solver.cg_tolerance, 1e-7);
-  j["solver"]["stiff_sweeps"] = 0;
+  j["solver"]["stiff_sweeps"] = 1;  // with line passes: after them
   j["solver"]["line_passes"] = 5;
   j["solver"]["line_relaxation"] = 1.5;
   j["cloth"]["long_range"] = true;  // the default cloth is pinned
   const SceneDef l = io::parse_scene(j, "t");
   EXPECT_EQ(l.solver.line_passes, 5);
+  EXPECT_EQ(l.solver.stiff_sweeps, 1);
   EXPECT_EQ(l.solver.line_relaxation, 1.5);
   EXPECT_EQ(io::to_json(io::parse_scene(io::to_json(l), "t")), io::to_json(l));
   EXPECT_EQ(s.solver.cg_max_iterations, 99);
@@ -622,13 +623,6 @@ TEST(SolverKeys, BadValuesNameTheFieldAndTheProblem) {
     const std::string bad = error([&](json& j) { j["solver"]["line_relaxation"] = omega; });
     EXPECT_NE(bad.find("solver.line_relaxation"), std::string::npos) << bad;
   }
-  const std::string both = error([](json& j) {
-    j["cloth"]["long_range"] = true;
-    j["solver"]["line_passes"] = 2;
-    j["solver"]["stiff_sweeps"] = 2;
-  });
-  EXPECT_NE(both.find("solver.line_passes"), std::string::npos) << both;
-  EXPECT_NE(both.find("solver.stiff_sweeps"), std::string::npos) << both;
   const std::string pinned = error([](json& j) { j["solver"]["line_passes"] = 2; });
   EXPECT_NE(pinned.find("solver.line_passes"), std::string::npos) << pinned;
   EXPECT_NE(pinned.find("cloth.long_range"), std::string::npos) << pinned;
@@ -813,7 +807,9 @@ TEST(XpbdLinePasses, MeetTheBenchBarOnADrapeWhereAsManyStiffSweepsDoNot) {
   // 7%. And nothing ends inside the sphere. Over-relaxed passes (the default ω = 1.3) converge
   // what block Gauss–Seidel leaves between rows and columns faster: the largest strain, averaged
   // over the last second's frames, 0.27% against 0.48% for plain passes (0.046% against 0.135%
-  // at 6 passes) when written.
+  // at 6 passes) when written. One stiff sweep after the passes takes out most of the local
+  // strain they leave at folds and where friction holds the cloth on the sphere: 0.23% at worst
+  // against 0.53% when written; a sweep before them, which the passes undo, left 0.54%.
   struct Strain {
     double worst = 0.0, mean = 0.0;  // of each frame's largest, over the last second
   };
@@ -840,6 +836,7 @@ TEST(XpbdLinePasses, MeetTheBenchBarOnADrapeWhereAsManyStiffSweepsDoNot) {
   EXPECT_LT(relaxed.worst, 0.01);
   EXPECT_GT(last_second(0, 4).worst, 0.02);
   EXPECT_LT(relaxed.mean, 0.75 * last_second(4, 0, 1.0).mean);
+  EXPECT_LT(last_second(4, 1).worst, 0.5 * relaxed.worst);
 }
 
 TEST(XpbdLinePasses, PauseWhileTheHandHoldsAParticle) {

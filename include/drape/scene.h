@@ -114,12 +114,13 @@ struct SolverDef {
   /// In [0, 10000].
   int iterations = 0;
   /// xpbd: extra Gauss–Seidel sweeps, per substep, of the stiffest springs (the structural ones
-  /// in the shipped scenes) after the sweeps of all springs, in [0, 10000]; 0 = none.
+  /// in the shipped scenes) after the sweeps of all springs, in [0, 10000]; 0 = none. With
+  /// line_passes, sweeps of the structural springs after the passes instead.
   int stiff_sweeps = 0;
   /// xpbd: passes, per substep, that solve each row and each column of structural springs as
   /// one chain, exactly (a tridiagonal solve), in place of sweeping them spring by spring, with
-  /// the contacts and attachments before each pass; in [0, 10000]; 0 = none. Not with
-  /// stiff_sweeps; a pinned cloth needs cloth.long_range with them.
+  /// the contacts and attachments before each pass; in [0, 10000]; 0 = none. A pinned cloth
+  /// needs cloth.long_range with them.
   int line_passes = 0;
   /// xpbd with line_passes: the over-relaxation ω of every line pass but the last (each chain's
   /// Δλ times ω: block successive over-relaxation), in (0, 2); 1 = plain block Gauss–Seidel.

@@ -186,14 +186,17 @@ Row bench_best(const BenchOptions& o, const std::string& scene, int n, const Var
     return bench_one(o, scene, n, v, threads, found.substeps, found.stiff_sweeps,
                      found.line_passes);
   // Each count of line passes (not on hang, whose pins have no attachments: line passes need
-  // them), then each of stiff sweeps, both ascending: each costs more per substep than the last.
+  // them), with none, one and two stiff sweeps after them, then each count of stiff sweeps, all
+  // ascending: each costs more per substep than the last (a sweep after the passes costs about
+  // a fifth of a pass).
   struct Try {
     int stiff_sweeps, line_passes;
   };
   std::vector<Try> kinds;
   if (scene != "hang")
     for (int lines : o.line_passes)
-      if (lines > 0) kinds.push_back({0, lines});
+      if (lines > 0)
+        for (int sweeps : {0, 1, 2}) kinds.push_back({sweeps, lines});
   for (int sweeps : o.stiff_sweeps) kinds.push_back({sweeps, 0});
   std::optional<Row> best, best_of_kind[2];  // overall; passing, of sweeps and of lines
   int tries = 0;
@@ -401,8 +404,9 @@ std::function<int()> add_bench_command(CLI::App& app) {
       ->delimiter(',')
       ->check(CLI::Range(0, 10000));
   cmd->add_option("--line-passes", o->line_passes,
-                  "xpbd: the solver.line_passes counts the search tries too, each with its own "
-                  "substep search (0: none; not on hang, whose pins have no attachments)")
+                  "xpbd: the solver.line_passes counts the search tries too, each with 0, 1 and 2 "
+                  "stiff sweeps after the passes and each with its own substep search "
+                  "(0: none; not on hang, whose pins have no attachments)")
       ->delimiter(',')
       ->check(CLI::Range(0, 10000));
   cmd->add_flag("!--no-search", o->search,

@@ -169,9 +169,6 @@ void check(const SceneDef& def) {
           "is " + std::to_string(s.stiff_sweeps) + ", must be in [0, 10000]");
   require(s.line_passes >= 0 && s.line_passes <= 10000, "solver.line_passes",
           "is " + std::to_string(s.line_passes) + ", must be in [0, 10000]");
-  require(s.line_passes == 0 || s.stiff_sweeps == 0, "solver.line_passes",
-          "and solver.stiff_sweeps are two ways to converge the structural springs; set one of "
-          "them to 0");
   // Solved exactly, rows and columns are rigid, and rigid chains under a pin's whole load
   // oscillate and tear at the steps line passes are for; attachments take that load.
   require(s.line_passes == 0 || def.cloth.pins.empty() || def.cloth.long_range.enabled,
