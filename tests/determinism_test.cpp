@@ -61,15 +61,15 @@ TEST(Determinism, TheThreadCountDoesNotChangeTheBits) {
   def.cloth.mass = 100.0;  // heavy, so a few substeps are stable and the test stays quick
   def.solver.substeps = 20;
   const int before = omp_get_max_threads();
-  // The scene's own method, then xpbd (its grid sweeps, with stiff sweeps, and with line passes
-  // and attachments) in both precisions.
+  // The scene's own method, then xpbd (its grid sweeps with stiff sweeps, and line passes with
+  // attachments and stiff sweeps after them) in both precisions.
   for (Precision precision : {Precision::f64, Precision::f32}) {
     for (int variant = 0; variant < 3; ++variant) {
       const bool xpbd = variant > 0, lines = variant == 2;
       if (!xpbd && precision == Precision::f32) continue;
       SceneDef d = def;
       if (xpbd) d.solver.method = Method::xpbd;
-      if (xpbd && !lines) d.solver.stiff_sweeps = 2;
+      if (xpbd) d.solver.stiff_sweeps = 2;
       if (lines) d.solver.line_passes = 2;
       if (lines) d.cloth.long_range.enabled = true;
       d.solver.precision = precision;

@@ -808,8 +808,8 @@ TEST(XpbdLinePasses, MeetTheBenchBarOnADrapeWhereAsManyStiffSweepsDoNot) {
   // what block Gauss–Seidel leaves between rows and columns faster: the largest strain, averaged
   // over the last second's frames, 0.27% against 0.48% for plain passes (0.046% against 0.135%
   // at 6 passes) when written. One stiff sweep after the passes takes out most of the local
-  // strain they leave at folds and where friction holds the cloth on the sphere: 0.23% at worst
-  // against 0.53% when written; a sweep before them, which the passes undo, left 0.54%.
+  // strain they leave at folds and where friction holds the cloth on the sphere: 0.22% at worst
+  // against 0.53% when written; a sweep before them, which the passes undo, left 0.42%.
   struct Strain {
     double worst = 0.0, mean = 0.0;  // of each frame's largest, over the last second
   };
