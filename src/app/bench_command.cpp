@@ -187,8 +187,8 @@ Row bench_best(const BenchOptions& o, const std::string& scene, int n, const Var
                      found.line_passes);
   // Each count of line passes (not on hang, whose pins have no attachments: line passes need
   // them), with none, one and two stiff sweeps after them, then each count of stiff sweeps, all
-  // ascending: each costs more per substep than the last (a sweep after the passes costs about
-  // a fifth of a pass).
+  // ascending: each costs more per substep than the last (a sweep after the passes costs a
+  // fifth of a pass at 256², half at 128²).
   struct Try {
     int stiff_sweeps, line_passes;
   };
