@@ -139,19 +139,20 @@ BENCHMARK(XpbdFrame)
     ->ArgNames({"n", "single", "stiff_sweeps"});
 
 // One frame of xpbd at 4 substeps with line passes (each an exact solve of every row and column
-// of structural springs, after the attachments), on the same cloth; items are particles ×
-// substeps × passes.
+// of structural springs, after the attachments), with and without a stiff sweep after them, on
+// the same cloth; items are particles × substeps × passes.
 void XpbdLinesFrame(benchmark::State& st) {
   SceneDef def = xpbd_grid(st, 4);
   def.solver.line_passes = static_cast<int>(st.range(2));
+  def.solver.stiff_sweeps = static_cast<int>(st.range(3));
   Simulation sim(def);
   for (auto _ : st) sim.step();
   st.SetItemsProcessed(st.iterations() * sim.model().size() * def.solver.substeps *
                        def.solver.line_passes);
 }
 BENCHMARK(XpbdLinesFrame)
-    ->ArgsProduct({{64, 128, 256}, {0, 1}, {2, 6}})
-    ->ArgNames({"n", "single", "line_passes"});
+    ->ArgsProduct({{64, 128, 256}, {0, 1}, {2, 6}, {0, 1}})
+    ->ArgNames({"n", "single", "line_passes", "stiff_sweeps"});
 
 }  // namespace
 }  // namespace drape
