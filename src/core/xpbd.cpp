@@ -92,10 +92,11 @@ struct Family {
   SpringKind kind = SpringKind::structural;
 };
 
-/// The line passes' arrays for one direction (rows or columns), by chain entry: constraint t of
-/// chain l has entry (t + 1)·lanes + l, so they are contiguous across chains; the entries before
-/// the first constraint and after the last are never written and end the recurrences. T is a
-/// number (columns) or a vector of numbers, one lane a chain (rows, see Lanes).
+/// The line passes' arrays for one direction (rows or columns), by chain entry. Each chain has an
+/// entry before its first constraint and one after its last, never written, that end the
+/// recurrences; how the entries are laid out is the direction's (see eliminate_columns and
+/// solve_rows). T is a number (columns) or a vector of numbers, one lane a chain (rows, see
+/// Lanes).
 template <typename T>
 struct ChainScratch {
   Soa<T> n;                         ///< the constraint's unit direction
@@ -875,11 +876,14 @@ class GridXpbd final : public Solver {
   // (directions, square roots) and the moves run along each row in its contiguous runs of one
   // column residue, as the spring sweeps do, by slot into rows_n_, rows_b_, rows_r_, rows_dl_.
   // The recurrences run across rows, a lane a row, on tiles of those arrays transposed (Lanes):
-  // constraint t of the rows of group G has entry (t + 1)·groups + G.
+  // constraint t of the rows of group G has entry G·(cols + 1) + t + 1, so a group's entries are
+  // contiguous and each thread's groups one block. Laid out constraint-major instead, with the
+  // groups of both threads side by side, the recurrences took as long on half the rows with two
+  // threads as on all of them with one (drape-128, 4 + 4 + 1 single: 0.71 ms a frame either way).
   void solve_rows(const Family& f, Real h, int g0, int g1, bool first, Real omega) {
     constexpr int L = Lanes<Real>::kLanes;
     const int r0 = g0 * L, r1 = std::min(g1 * L, rows_), stride = grid_.stride;
-    const int block = grid_.block, groups = row_groups();
+    const int block = grid_.block, entries = cols_ + 1;
     const unsigned char* __restrict fixed = row_fixed_.data();
     const Real *__restrict bx = base_.x.data(), *__restrict by = base_.y.data(),
                            *__restrict bz = base_.z.data();
@@ -938,11 +942,11 @@ class GridXpbd final : public Solver {
         }
         for (int j = 0; j < cols_in; ++j) {
           for (int b = 0; b < 4; ++b) {
-            const int t = 4 * (k0 + j) + b, q = (t + 1) * groups + G;
+            const int t = 4 * (k0 + j) + b, q = G * entries + t + 1;
             if (t + 1 >= cols_) break;
             const ChainRowOf<Lane> c{tx[b][j], ty[b][j], tz[b][j], tb[b][j], tr[b][j]};
             eliminate<Lane>(c, tw[b][j], gamma, alpha_tilde * keep * lambda[q], nx, ny, nz, fe, g,
-                            inv_beta, q - groups, q, q);
+                            inv_beta, q - 1, q, q);
           }
         }
       }
@@ -951,9 +955,9 @@ class GridXpbd final : public Solver {
         LaneTiles td;
         for (int j = L - 1; j >= 0; --j) {
           for (int b = 3; b >= 0; --b) {
-            const int t = 4 * (k0 + j) + b, q = (t + 1) * groups + G;
+            const int t = 4 * (k0 + j) + b, q = G * entries + t + 1;
             td[b][j] = t + 1 < cols_ ? substitute<Lane>(g, inv_beta, lambda, keep, omega, q,
-                                                        fe[q + groups], g[q + groups])
+                                                        fe[q + 1], g[q + 1])
                                      : Lane{};
           }
         }
