@@ -283,8 +283,8 @@ class GridXpbd final : public Solver {
     return heap_bytes(base_.x, base_.y, base_.z, move_.x, move_.y, move_.z, v_.x, v_.y, v_.z,
                       accel_.x, accel_.y, accel_.z, inv_mass_, scratch_, families_, lambda_,
                       attachments_.pins(), pin_at_, attachment_limit_, col_slot_, row_fixed_,
-                      col_fixed_, rows_n_.x, rows_n_.y, rows_n_.z, rows_b_, rows_r_, rows_dl_,
-                      twist_beta_, twist_g_, twist_fe_, twist_fg_, twist_dl_) +
+                      col_fixed_, fixed_columns_, rows_n_.x, rows_n_.y, rows_n_.z, rows_b_, rows_r_,
+                      rows_dl_, twist_beta_, twist_g_, twist_fe_, twist_fg_, twist_dl_) +
            row_chains_.bytes() + col_chains_.bytes();
   }
 
@@ -366,7 +366,9 @@ class GridXpbd final : public Solver {
     // and scratch that changed hands every pass would cross between the cores' caches.
     row_chains_.prepare(size_t(cols_ + 1) * row_groups());
     col_chains_.prepare(size_t(rows_ + 1) * grid_.stride);
-    fixed_columns_ = std::find(col_fixed_.begin(), col_fixed_.end(), 1) != col_fixed_.end();
+    fixed_columns_.clear();
+    for (int l = 0; l < grid_.stride; ++l)
+      if (col_fixed_[l]) fixed_columns_.push_back(l);
     twist_ = twist_row();
     for (AlignedVector<Real>* a : {&twist_beta_, &twist_g_, &twist_fe_, &twist_fg_, &twist_dl_})
       a->assign(grid_.stride, 0.0);
@@ -612,8 +614,7 @@ class GridXpbd final : public Solver {
 #pragma omp for schedule(static)
     for (int part = 0; part < parts; ++part) {
       const int g0 = row_groups() * part / parts, g1 = row_groups() * (part + 1) / parts;
-      const int L = Lanes<Real>::kLanes;
-      for (int r = g0 * L; r < std::min(g1 * L, rows_); ++r) constrain_row(colliders, r);
+      for (int r = group_row(g0); r < group_row(g1); ++r) constrain_row(colliders, r);
       solve_rows(rf, h, g0, g1, first, omega);
     }
     if (rows_ < 2) return;  // no columns
@@ -631,11 +632,12 @@ class GridXpbd final : public Solver {
       substitute_columns(item / ranges, stride * r / ranges, stride * (r + 1) / ranges, first,
                          omega);
     }
-    if (fixed_columns_) {
-#pragma omp for schedule(static)
-      for (int l = 0; l < stride; ++l)
-        if (col_fixed_[l]) sweep_chain(cf, h, l, stride, rows_);
-    }
+    if (!fixed_columns_.empty()) sweep_fixed_columns(cf, h, parts);
+  }
+
+  // The first row of lane group G (rows_ for G = row_groups()).
+  int group_row(int G) const {
+    return std::min(G * Lanes<Real>::kLanes, rows_);
   }
 
   // The attachments and contacts of row r, as each pass starts.
@@ -983,22 +985,48 @@ class GridXpbd final : public Solver {
           mz[j] += w[j] * s * sz[i];
         }
       }
-      if (fixed[r]) sweep_chain(f, h, r * grid_.stride, 0, cols_);
+      if (fixed[r]) sweep_chain(f, h, r * grid_.stride);
     }
   }
 
-  // Sweeps the chain whose element t is at slot start + t·step (step 0: a row, by col_slot_)
-  // spring by spring, kFixedChainSweeps times red–black, each projection from λ = 0.
-  void sweep_chain(const Family& f, Real h, int start, int step, int count) {
+  // Sweeps the row whose first slot is `start` spring by spring, kFixedChainSweeps times
+  // red–black, each projection from λ = 0.
+  void sweep_chain(const Family& f, Real h, int start) {
     const auto [alpha_tilde, gamma] = compliance(f, h);
-    auto at = [&](int t) { return start + (step > 0 ? t * step : col_slot_[t]); };
     for (int sweep = 0; sweep < kFixedChainSweeps; ++sweep)
       for (int colour = 0; colour < 2; ++colour)
-        for (int t = colour; t + 1 < count; t += 2)
-          xpbd_project<false, true>(base_.x.data(), base_.y.data(), base_.z.data(),
-                                    move_.x.data(), move_.y.data(), move_.z.data(),
-                                    inv_mass_.data(), at(t), at(t + 1), Real(f.rest),
-                                    alpha_tilde, gamma, Real(0));
+        for (int t = colour; t + 1 < cols_; t += 2)
+          project_fixed_chain(f, alpha_tilde, gamma, start + col_slot_[t],
+                              start + col_slot_[t + 1]);
+  }
+
+  // The columns through a fixed particle, swept as sweep_chain sweeps a row, each thread the
+  // constraints from the rows it solves (the constraints of one colour share no particle, so
+  // the bits are those of one thread sweeping each column whole). Swept whole by one thread,
+  // every column crossed the other thread's rows, whose cache lines then went back and forth
+  // between the cores every pass.
+  void sweep_fixed_columns(const Family& f, Real h, int parts) {
+    const auto [alpha_tilde, gamma] = compliance(f, h);
+    const int stride = grid_.stride;
+    for (int sweep = 0; sweep < kFixedChainSweeps; ++sweep) {
+      for (int colour = 0; colour < 2; ++colour) {
+#pragma omp for schedule(static)
+        for (int part = 0; part < parts; ++part) {
+          const int r0 = group_row(row_groups() * part / parts),
+                    r1 = group_row(row_groups() * (part + 1) / parts);
+          for (int t = r0 + ((r0 ^ colour) & 1); t < std::min(r1, rows_ - 1); t += 2)
+            for (int l : fixed_columns_)
+              project_fixed_chain(f, alpha_tilde, gamma, t * stride + l, (t + 1) * stride + l);
+        }
+      }
+    }
+  }
+
+  // One constraint of a chain through a fixed particle, from λ = 0.
+  void project_fixed_chain(const Family& f, Real alpha_tilde, Real gamma, int i, int j) {
+    xpbd_project<false, true>(base_.x.data(), base_.y.data(), base_.z.data(), move_.x.data(),
+                              move_.y.data(), move_.z.data(), inv_mass_.data(), i, j, Real(f.rest),
+                              alpha_tilde, gamma, Real(0));
   }
 
   // Long-range attachments on every free particle, pin after pin: project_attachment's rule
@@ -1117,20 +1145,20 @@ class GridXpbd final : public Solver {
   std::vector<PinAt> pin_at_;
   AlignedVector<Real> attachment_limit_;  ///< per pin, per slot, m
   // Line passes (solver.line_passes).
-  int line_passes_ = 0;               ///< as asked
-  Real relaxation_ = 1;               ///< ω of every pass but the last (solver.line_relaxation)
-  bool lines_ = false;                ///< whether they run now (see prepare_lines)
+  int line_passes_ = 0;  ///< as asked
+  Real relaxation_ = 1;  ///< ω of every pass but the last (solver.line_relaxation)
+  bool lines_ = false;   ///< whether they run now (see prepare_lines)
   int row_family_ = -1, col_family_ = -1;  ///< the structural families along rows and columns
   std::vector<int32_t> col_slot_;          ///< slot of column c within a row
   std::vector<unsigned char> row_fixed_, col_fixed_;  ///< chain holds a fixed particle: swept
   ChainScratch<Lane> row_chains_;                     ///< a lane a row (see solve_rows)
   ChainScratch<Real> col_chains_;
-  bool fixed_columns_ = false;  ///< some column holds a fixed particle
-  int twist_ = 0;               ///< the columns' twist constraint (see eliminate_columns)
+  std::vector<int> fixed_columns_;  ///< the slots in a row of the columns col_fixed_ marks
+  int twist_ = 0;                   ///< the columns' twist constraint (see eliminate_columns)
   AlignedVector<Real> twist_beta_, twist_g_;  ///< per column: the top half's pivot, right side
   AlignedVector<Real> twist_fe_, twist_fg_;   ///< per column: what the bottom half takes off them
   AlignedVector<Real> twist_dl_;              ///< per column: the twist's Δλ, the bottom's copy
-  Soa<Real> rows_n_;                         ///< per slot: its row constraint's direction
+  Soa<Real> rows_n_;                          ///< per slot: its row constraint's direction
   AlignedVector<Real> rows_b_, rows_r_, rows_dl_;  ///< per slot: its diagonal, right side, Δλ
 };
 
