@@ -728,24 +728,32 @@ TEST(XpbdLinePasses, RemoveAUniformStretchInOnePassAtAnyResolution) {
   // row holds. Sweeping spring by spring moves the stretch one spring per sweep: at 64×64 a
   // sweep of all springs leaves almost all of it. Only structural springs, so nothing else
   // pulls, and rigid ones, so that the step's compliance leaves no stretch of its own. 37 × 13
-  // leaves the row solve's groups of 8 rows and tiles of 8 columns a residue partly filled; the
-  // column solve meets from both ends at a twist, which 8 × 8 puts below the first row and 5 × 2
-  // on the only constraint of each column.
-  for (const auto& [n, rows] : {std::pair{8, 8}, {64, 64}, {37, 13}, {5, 2}}) {
-    SCOPED_TRACE("resolution " + std::to_string(n) + "x" + std::to_string(rows));
-    SceneDef def = bare(Method::xpbd);
-    def.cloth.cols = n;
-    def.cloth.rows = rows;
-    def.cloth.shear.stiffness = def.cloth.bending.stiffness = 0.0;
-    def.cloth.structural = {1e14, 0.0};  // rigid: compliance leaves no stretch of its own
-    auto stretch = [](std::vector<Vec3>& x) {
-      for (Vec3& p : x) p.head<2>() *= 1.01;  // a vertical cloth: its plane is x–y
-    };
-    def.solver.line_passes = 1;
-    EXPECT_LT(strain_after_one_substep(def, stretch), 1e-12);
-    def.solver.line_passes = 0;
-    def.solver.stiff_sweeps = 1;
-    EXPECT_GT(strain_after_one_substep(def, stretch), n > 8 ? 0.009 : 1e-4);
+  // leaves the row solve's groups of rows (8 or 16, the lanes of a vector) and tiles of columns
+  // a residue partly filled, and 150 × 21 full tiles and groups before partial ones; the column
+  // solve meets from both ends at a twist, which 8 × 8 puts below the first row and 5 × 2 on the
+  // only constraint of each column. In single precision too, whose row solve has lanes of its
+  // own width, to float's round-off (1.3e-5 along the rows of 150), far below the 1% left where
+  // a lane or a column of a tile were missed.
+  for (const Precision precision : {Precision::f64, Precision::f32}) {
+    for (const auto& [n, rows] : {std::pair{8, 8}, {64, 64}, {37, 13}, {150, 21}, {5, 2}}) {
+      SCOPED_TRACE("resolution " + std::to_string(n) + "x" + std::to_string(rows) +
+                   (precision == Precision::f32 ? ", single" : ", double"));
+      SceneDef def = bare(Method::xpbd);
+      def.solver.precision = precision;
+      def.cloth.cols = n;
+      def.cloth.rows = rows;
+      def.cloth.shear.stiffness = def.cloth.bending.stiffness = 0.0;
+      def.cloth.structural = {1e14, 0.0};  // rigid: compliance leaves no stretch of its own
+      auto stretch = [](std::vector<Vec3>& x) {
+        for (Vec3& p : x) p.head<2>() *= 1.01;  // a vertical cloth: its plane is x–y
+      };
+      def.solver.line_passes = 1;
+      EXPECT_LT(strain_after_one_substep(def, stretch),
+                precision == Precision::f32 ? 1e-4 : 1e-12);
+      def.solver.line_passes = 0;
+      def.solver.stiff_sweeps = 1;
+      EXPECT_GT(strain_after_one_substep(def, stretch), n > 8 ? 0.009 : 1e-4);
+    }
   }
 }
 

@@ -24,6 +24,7 @@
 #include <limits>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 #include "aligned.h"
 #include "constraints.h"
@@ -118,9 +119,17 @@ struct ChainScratch {
 /// and from them, transposed in registers. The row solve runs its recurrences kLanes rows at a
 /// time this way: a row's numbers are contiguous along it, and the transposes turn a tile of
 /// them into one vector per column across the rows, without a strided load or store per number.
+/// A recurrence step costs its latency whatever the vector's width, so kLanes fills a register:
+/// 16 floats where the target has 512-bit vectors (AVX-512), else 8 numbers. Each lane is its own
+/// row, so the width leaves the row solve's bits as they are (the columns' twist, which the row
+/// groups place, may move a row, and their round-off with it).
 template <typename Real>
 struct Lanes {
+#ifdef __AVX512F__
+  static constexpr int kLanes = 64 / sizeof(Real);
+#else
   static constexpr int kLanes = 8;
+#endif
   typedef Real Vec __attribute__((vector_size(kLanes * sizeof(Real))));
   using Tile = Vec[kLanes];
 
@@ -128,7 +137,7 @@ struct Lanes {
   // the rest of the tile is `fill`. Each of the rows is read whole, so the array needs kLanes
   // numbers of slack past the last place read. Returned transposed: tile[j] holds column j.
   static void load(const Real* src, int stride, int nrows, int ncols, Real fill, Tile& tile) {
-    const Vec lane{0, 1, 2, 3, 4, 5, 6, 7}, filled = Vec{} + fill;
+    const Vec lane = iota(std::make_index_sequence<kLanes>()), filled = Vec{} + fill;
     for (int k = 0; k < kLanes; ++k) {
       if (k < nrows) {
         std::memcpy(&tile[k], src + k * stride, sizeof(Vec));
@@ -147,8 +156,12 @@ struct Lanes {
   }
 
  private:
+  template <size_t... I>
+  static Vec iota(std::index_sequence<I...>) {
+    return Vec{Real(I)...};
+  }
   // Swapping the off-diagonal k × k blocks of every 2k × 2k block exchanges bit k of the row
-  // and column indices; doing so for k = 1, 2, 4 transposes the tile.
+  // and column indices; doing so for k = 1, 2, 4, … transposes the tile.
   template <int k>
   static constexpr int low(int p) {
     return (p & k) ? kLanes + p - k : p;
@@ -157,20 +170,24 @@ struct Lanes {
   static constexpr int high(int p) {
     return (p & k) ? kLanes + p : p + k;
   }
-  template <int k>
-  static void swap_blocks(Vec& a, Vec& b) {
-    const Vec l = __builtin_shufflevector(a, b, low<k>(0), low<k>(1), low<k>(2), low<k>(3),
-                                          low<k>(4), low<k>(5), low<k>(6), low<k>(7));
-    const Vec h = __builtin_shufflevector(a, b, high<k>(0), high<k>(1), high<k>(2), high<k>(3),
-                                          high<k>(4), high<k>(5), high<k>(6), high<k>(7));
+  template <int k, size_t... I>
+  static void swap_blocks(Vec& a, Vec& b, std::index_sequence<I...>) {
+    const Vec l = __builtin_shufflevector(a, b, low<k>(I)...);
+    const Vec h = __builtin_shufflevector(a, b, high<k>(I)...);
     a = l;
     b = h;
   }
+  template <int k>
+  static void swap_all(Tile& t) {
+    for (int i = 0; i < kLanes; ++i)
+      if (!(i & k)) swap_blocks<k>(t[i], t[i + k], std::make_index_sequence<kLanes>());
+  }
   static void transpose(Tile& t) {
-    static_assert(kLanes == 8, "the shuffles are written out for 8 lanes");
-    for (int i = 0; i < kLanes; i += 2) swap_blocks<1>(t[i], t[i + 1]);
-    for (int i : {0, 1, 4, 5}) swap_blocks<2>(t[i], t[i + 2]);
-    for (int i = 0; i < 4; ++i) swap_blocks<4>(t[i], t[i + 4]);
+    static_assert(kLanes == 8 || kLanes == 16);
+    swap_all<1>(t);
+    swap_all<2>(t);
+    swap_all<4>(t);
+    if constexpr (kLanes == 16) swap_all<8>(t);
   }
 };
 
@@ -874,7 +891,7 @@ class GridXpbd final : public Solver {
     }
   }
 
-  // The rows of lane groups [g0, g1) (rows 8·g0 up to 8·g1, or the last row). What costs
+  // The rows of lane groups [g0, g1) (rows L·g0 up to L·g1, or the last row). What costs
   // (directions, square roots) and the moves run along each row in its contiguous runs of one
   // column residue, as the spring sweeps do, by slot into rows_n_, rows_b_, rows_r_, rows_dl_.
   // The recurrences run across rows, a lane a row, on tiles of those arrays transposed (Lanes):
