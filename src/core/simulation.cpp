@@ -220,6 +220,7 @@ void Simulation::move_grab(const Vec3& target) {
   if (grabbed_ < 0 || !target.allFinite()) return;
   state_.x[grabbed_] = target;
   state_.v[grabbed_].setZero();
+  solver_->state_changed();
 }
 
 void Simulation::release(const Vec3& velocity) {

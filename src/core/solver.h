@@ -31,6 +31,10 @@ class Solver {
   virtual void prepare(const World& world, const SolverDef& def) = 0;
   /// Advances one frame of dt. Leaves state.normal up to date.
   virtual void step_frame(World& world, double dt) = 0;
+  /// Says that the state was changed since the last frame other than by step_frame or a
+  /// prepare() (the hand moved a held particle). A method that keeps the state in arrays of its
+  /// own from one frame to the next must read it again.
+  virtual void state_changed() {}
   virtual int substeps() const = 0;
   /// Heap bytes of the method's own arrays (its workspace, factorisations included), as sized
   /// by the last prepare(): what the method adds to the model and state, for memory reports.

@@ -224,11 +224,16 @@ class GridXpbd final : public Solver {
         attachment_limit_[k * slots + grid_.slot(i)] =
             static_cast<Real>(attachments_.limit(m, i, pins[k]));
     prepare_lines(w, def);
+    current_ = false;
     if (def.substeps > 0) {
       substeps_ = def.substeps;
       return;
     }
     substeps_ = automatic_substeps(w, def);
+  }
+
+  void state_changed() override {
+    current_ = false;
   }
 
   void step_frame(World& w, double dt) override {
@@ -247,18 +252,21 @@ class GridXpbd final : public Solver {
     }
     const Vec3 g = w.forces.gravity;
     const double drag = w.forces.air_drag;
+    const bool read = !current_;
     for (size_t k = 0; k < pin_at_.size(); ++k)
       for (int d = 0; d < 3; ++d)
         split(s.x[attachments_.pins()[k]][d], pin_at_[k].base[d], pin_at_[k].move[d]);
 
 #pragma omp parallel if (worth_threads(n))
     {
+      // The state is read only where the arrays do not hold it already (see current_).
 #pragma omp for schedule(static)
-      for (int32_t i = 0; i < n; ++i) {
+      for (int32_t i = 0; i < (read || wind ? n : 0); ++i) {
         const int32_t p = grid_.slot(i);
         const Vec3 a = wind ? Vec3(g + s.inv_mass[i] * scratch_[i]) : g;
+        for (int d = 0; d < 3; ++d) accel_[d][p] = static_cast<Real>(a[d]);
+        if (!read) continue;
         for (int d = 0; d < 3; ++d) {
-          accel_[d][p] = static_cast<Real>(a[d]);
           v_[d][p] = static_cast<Real>(s.v[i][d]);
           split(s.x[i][d], base_[d][p], move_[d][p]);
         }
@@ -291,6 +299,7 @@ class GridXpbd final : public Solver {
       }
     }
     update_normals(m, s);
+    current_ = true;
   }
 
   int substeps() const override {
@@ -1145,6 +1154,12 @@ class GridXpbd final : public Solver {
 
   int cols_ = 0, rows_ = 0;
   GridLayout grid_;
+  // Whether the arrays below hold the state as the last frame left it, nothing having changed
+  // it since (prepare(), state_changed()). The next frame then starts from them rather than
+  // reading the state back: at 128×128 that read took 0.05 ms of a 1 ms frame on two threads,
+  // its arrays having left the caches during the frame. They hold each position more exactly
+  // than the state does (as base + move, whose sum the state holds rounded to double).
+  bool current_ = false;
   int substeps_ = 1;
   int iterations_ = kDefaultIterations;
   int stiff_sweeps_ = 0;
