@@ -214,6 +214,39 @@ TEST(Wind, GustsStayWithinTheirAmplitude) {
   EXPECT_GT(hi - lo, 2.0);  // it does vary
 }
 
+TEST(Energy, TheWatchTakesBothEnergiesAndSeesAnyNonFiniteNumber) {
+  // 128×128 particles, enough to be summed in parallel; moving, out of plane.
+  SceneDef def;
+  def.cloth.cols = def.cloth.rows = 128;
+  const ClothModel m = build_grid(def.cloth);
+  ClothState s = initial_state(def.cloth, m);
+  for (int32_t i = 0; i < m.size(); ++i) {
+    s.x[i] += 0.1 * random_vec(i);
+    s.v[i] = random_vec(i + 7);
+  }
+  const Vec3 g(0.3, -9.81, 0.1);
+  const forces::StateWatch w = forces::watch_state(m, s, g);
+  EXPECT_TRUE(w.finite);
+  const double kinetic = forces::kinetic_energy(m, s.v),
+               gravity = forces::gravity_energy(m, s.x, g);
+  EXPECT_NEAR(w.kinetic, kinetic, 1e-12 * kinetic);
+  EXPECT_NEAR(w.gravity, gravity, 1e-12 * std::abs(gravity));
+  // One number anywhere, in any component, NaN or infinite: whatever it does to the sums.
+  for (const int32_t i : {0, 5000, m.size() - 1}) {
+    for (int d = 0; d < 3; ++d) {
+      for (const double bad : {std::nan(""), HUGE_VAL, -HUGE_VAL}) {
+        for (std::vector<Vec3>* field : {&s.x, &s.v}) {
+          const double kept = (*field)[i][d];
+          (*field)[i][d] = bad;
+          EXPECT_FALSE(forces::watch_state(m, s, g).finite) << "particle " << i << " axis " << d;
+          (*field)[i][d] = kept;
+        }
+      }
+    }
+  }
+  EXPECT_TRUE(forces::watch_state(m, s, g).finite);
+}
+
 TEST(Normals, AreUnitAndAreaWeighted) {
   Square sq;
   for (const Vec3& n : sq.state.normal) EXPECT_LT((n - Vec3::UnitZ()).norm(), 1e-12);

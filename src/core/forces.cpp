@@ -110,6 +110,14 @@ double gravity_energy(const ClothModel& model, const std::vector<Vec3>& x, const
   return e;
 }
 
+StateWatch watch_state(const ClothModel& model, const ClothState& state, const Vec3& g) {
+  return deterministic_sum<StateWatch>(model.size(), [&](int64_t i) {
+    const Vec3 &x = state.x[i], &v = state.v[i];
+    const double m = model.mass[i];
+    return StateWatch{x.allFinite() && v.allFinite(), 0.5 * m * v.squaredNorm(), -m * g.dot(x)};
+  });
+}
+
 double spring_energy(const ClothModel& model, const std::vector<Vec3>& x) {
   double e = 0.0;
   for (const Spring& s : model.springs) e += spring_energy(x[s.i], x[s.j], s.stiffness, s.rest);

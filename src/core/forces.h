@@ -98,4 +98,19 @@ double kinetic_energy(const ClothModel& model, const std::vector<Vec3>& v);
 double gravity_energy(const ClothModel& model, const std::vector<Vec3>& x, const Vec3& g);
 double spring_energy(const ClothModel& model, const std::vector<Vec3>& x);
 
+/// What the divergence watch reads of the state after every frame, taken in one pass over it,
+/// in parallel, with the same bits for any thread count.
+struct StateWatch {
+  bool finite = true;    ///< every position and velocity is finite
+  double kinetic = 0.0;  ///< J, kinetic_energy up to round-off
+  double gravity = 0.0;  ///< J, gravity_energy up to round-off
+  StateWatch& operator+=(const StateWatch& o) {
+    finite = finite && o.finite;
+    kinetic += o.kinetic;
+    gravity += o.gravity;
+    return *this;
+  }
+};
+StateWatch watch_state(const ClothModel& model, const ClothState& state, const Vec3& g);
+
 }  // namespace drape::forces

@@ -41,19 +41,21 @@ inline constexpr int kSumBlocks = 64;  ///< fixed partition of deterministic sum
 
 /// Σ_{i<n} term(i), in parallel, with the same bits for any thread count: [0, n) is cut into
 /// kSumBlocks fixed blocks, each summed in order, then the block sums in order (an OpenMP
-/// reduction's combining order may vary from run to run). `term` may also update item i.
-template <class Term>
-double deterministic_sum(int64_t n, Term term) {
-  double partial[kSumBlocks];
+/// reduction's combining order may vary from run to run). `term` may also update item i. T is
+/// what is summed: a number, or a struct of several sums taken in one pass (T{} is its zero,
+/// and it has +=).
+template <class T = double, class Term>
+T deterministic_sum(int64_t n, Term term) {
+  T partial[kSumBlocks];
 #pragma omp parallel for schedule(static) if (worth_threads(n))
   for (int b = 0; b < kSumBlocks; ++b) {
     const int64_t begin = n * b / kSumBlocks, end = n * (b + 1) / kSumBlocks;
-    double s = 0.0;
+    T s{};
     for (int64_t i = begin; i < end; ++i) s += term(i);
     partial[b] = s;
   }
-  double sum = 0.0;
-  for (double p : partial) sum += p;
+  T sum{};
+  for (const T& p : partial) sum += p;
   return sum;
 }
 

@@ -78,12 +78,14 @@ bool Simulation::step() {
   // blow-up (Solver::stretch_is_energy). A blow-up grows exponentially, so a tolerance of
   // ½·M·(1 m/s)² + M·|g|·(cloth diagonal), far above any stable run's error, catches it within a
   // frame.
-  bool finite = true;
-  for (int32_t i = 0; i < model_.size() && finite; ++i)
-    finite = state_.x[i].allFinite() && state_.v[i].allFinite();
+  //
+  // Finiteness and the two energies are taken in one pass over the state, in parallel: taken
+  // one after the other on one thread, they were 0.05 ms of a 0.84 ms frame (hang-lr 128×128 on
+  // two threads), which no number of threads shortened.
+  const forces::StateWatch watch = forces::watch_state(model_, state_, def_.forces.gravity);
   const std::string method = std::string(" with the ") + to_string(def_.solver.method) +
                              " method; " + divergence_hint(def_.solver.method);
-  if (!finite) {
+  if (!watch.finite) {
     divergence_ = "the state became non-finite (NaN or infinity)" + method;
   } else {
     if (def_.forces.wind.strength > 0.0)
@@ -93,10 +95,9 @@ bool Simulation::step() {
     const double mass = def_.cloth.mass;
     const double diagonal = std::hypot(def_.cloth.width, def_.cloth.height);
     const double tolerance = 0.5 * mass + mass * def_.forces.gravity.norm() * diagonal;
-    double energy = forces::kinetic_energy(model_, state_.v);
+    double energy = watch.kinetic;
     if (solver_->stretch_is_energy()) energy += forces::spring_energy(model_, state_.x);
-    const double supplied = energy_ref_ + external_work_ -
-                            forces::gravity_energy(model_, state_.x, def_.forces.gravity);
+    const double supplied = energy_ref_ + external_work_ - watch.gravity;
     if (energy - supplied > tolerance) {
       char buf[200];
       std::snprintf(buf, sizeof buf,
