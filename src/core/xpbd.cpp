@@ -259,18 +259,21 @@ class GridXpbd final : public Solver {
 
 #pragma omp parallel if (worth_threads(n))
     {
-      // The state is read only where the arrays do not hold it already (see current_).
+      // The state is read only where the arrays do not hold it already (see current_); the
+      // wind's acceleration is new every frame.
+      if (read || wind) {
 #pragma omp for schedule(static)
-      for (int32_t i = 0; i < (read || wind ? n : 0); ++i) {
-        const int32_t p = grid_.slot(i);
-        const Vec3 a = wind ? Vec3(g + s.inv_mass[i] * scratch_[i]) : g;
-        for (int d = 0; d < 3; ++d) accel_[d][p] = static_cast<Real>(a[d]);
-        if (!read) continue;
-        for (int d = 0; d < 3; ++d) {
-          v_[d][p] = static_cast<Real>(s.v[i][d]);
-          split(s.x[i][d], base_[d][p], move_[d][p]);
+        for (int32_t i = 0; i < n; ++i) {
+          const int32_t p = grid_.slot(i);
+          const Vec3 a = wind ? Vec3(g + s.inv_mass[i] * scratch_[i]) : g;
+          for (int d = 0; d < 3; ++d) accel_[d][p] = static_cast<Real>(a[d]);
+          if (!read) continue;
+          for (int d = 0; d < 3; ++d) {
+            v_[d][p] = static_cast<Real>(s.v[i][d]);
+            split(s.x[i][d], base_[d][p], move_[d][p]);
+          }
+          inv_mass_[p] = static_cast<Real>(s.inv_mass[i]);
         }
-        inv_mass_[p] = static_cast<Real>(s.inv_mass[i]);
       }
       for (int k = 0; k < substeps_; ++k) {
         predict(h, drag);
@@ -910,7 +913,7 @@ class GridXpbd final : public Solver {
   // threads as on all of them with one (drape-128, 4 + 4 + 1 single: 0.71 ms a frame either way).
   void solve_rows(const Family& f, Real h, int g0, int g1, bool first, Real omega) {
     constexpr int L = Lanes<Real>::kLanes;
-    const int r0 = g0 * L, r1 = std::min(g1 * L, rows_), stride = grid_.stride;
+    const int r0 = group_row(g0), r1 = group_row(g1), stride = grid_.stride;
     const int block = grid_.block, entries = cols_ + 1;
     const unsigned char* __restrict fixed = row_fixed_.data();
     const Real *__restrict bx = base_.x.data(), *__restrict by = base_.y.data(),
