@@ -83,10 +83,13 @@ bool Simulation::step() {
   // one after the other on one thread, they were 0.05 ms of a 0.84 ms frame (hang-lr 128×128 on
   // two threads), which no number of threads shortened.
   const forces::StateWatch watch = forces::watch_state(model_, state_, def_.forces.gravity);
-  const std::string method = std::string(" with the ") + to_string(def_.solver.method) +
-                             " method; " + divergence_hint(def_.solver.method);
+  // Written only on divergence: a frame that goes well allocates nothing here.
+  auto method = [&] {
+    return std::string(" with the ") + to_string(def_.solver.method) + " method; " +
+           divergence_hint(def_.solver.method);
+  };
   if (!watch.finite) {
-    divergence_ = "the state became non-finite (NaN or infinity)" + method;
+    divergence_ = "the state became non-finite (NaN or infinity)" + method();
   } else {
     if (def_.forces.wind.strength > 0.0)
       external_work_ += def_.solver.dt * forces::wind_power(model_, state_, def_.forces.wind,
@@ -104,7 +107,7 @@ bool Simulation::step() {
                     "the energy grew to %.3g J, more than the %.3g J that gravity, wind and the "
                     "start state can supply (tolerance %.3g J)",
                     energy, supplied, tolerance);
-      divergence_ = buf + method;
+      divergence_ = buf + method();
     }
   }
   if (diverged()) diverged_frame_ = frame_;
