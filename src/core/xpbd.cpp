@@ -642,7 +642,7 @@ class GridXpbd final : public Solver {
     const int parts = team_size();
 #pragma omp for schedule(static)
     for (int part = 0; part < parts; ++part) {
-      const int g0 = row_groups() * part / parts, g1 = row_groups() * (part + 1) / parts;
+      const int g0 = part_group(part, parts), g1 = part_group(part + 1, parts);
       for (int r = group_row(g0); r < group_row(g1); ++r) constrain_row(colliders, r);
       solve_rows(rf, h, g0, g1, first, omega);
     }
@@ -662,6 +662,13 @@ class GridXpbd final : public Solver {
                          omega);
     }
     if (!fixed_columns_.empty()) sweep_fixed_columns(cf, h, parts);
+  }
+
+  // The first lane group of the rows that `part` of `parts` solves (row_groups() for
+  // part = parts): the one split of the rows between threads, which the columns' twist, the
+  // fixed columns' sweeps and the attachments and contacts of each pass follow.
+  int part_group(int part, int parts) const {
+    return row_groups() * part / parts;
   }
 
   // The first row of lane group G (rows_ for G = row_groups()).
@@ -763,7 +770,7 @@ class GridXpbd final : public Solver {
   // (0 for a single row, which has no column constraints).
   int twist_row() const {
     if (rows_ < 2) return 0;
-    return std::clamp(Lanes<Real>::kLanes * (row_groups() / 2), 1, rows_ - 1) - 1;
+    return std::clamp(group_row(part_group(1, 2)), 1, rows_ - 1) - 1;
   }
 
   // Elimination towards the twist of half `half` (0 the top, 1 the bottom) of the columns whose
@@ -1041,8 +1048,8 @@ class GridXpbd final : public Solver {
       for (int colour = 0; colour < 2; ++colour) {
 #pragma omp for schedule(static)
         for (int part = 0; part < parts; ++part) {
-          const int r0 = group_row(row_groups() * part / parts),
-                    r1 = group_row(row_groups() * (part + 1) / parts);
+          const int r0 = group_row(part_group(part, parts)),
+                    r1 = group_row(part_group(part + 1, parts));
           for (int t = r0 + ((r0 ^ colour) & 1); t < std::min(r1, rows_ - 1); t += 2)
             for (int l : fixed_columns_)
               project_fixed_chain(f, alpha_tilde, gamma, t * stride + l, (t + 1) * stride + l);
