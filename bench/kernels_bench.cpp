@@ -4,7 +4,7 @@
 
 #include <vector>
 
-#include "constraints.h"
+#include "solvers/xpbd/constraints.h"
 #include "drape/collider.h"
 #include "drape/simulation.h"
 #include "forces.h"

@@ -9,7 +9,7 @@
 #include "drape/collider.h"
 #include "drape/simulation.h"
 #include "forces.h"
-#include "solver.h"
+#include "solvers/solver.h"
 
 namespace drape {
 namespace {
@@ -128,7 +128,7 @@ struct Square {
     def.cloth.width = def.cloth.height = 1.0;
     def.cloth.pins.clear();
     def.cloth.perturbation = 0.0;
-    model = build_grid(def.cloth);
+    model = build_model(def.cloth);
     state = initial_state(def.cloth, model);
   }
   ClothModel model;
@@ -218,7 +218,7 @@ TEST(Energy, TheWatchTakesBothEnergiesAndSeesAnyNonFiniteNumber) {
   // 128×128 particles, enough to be summed in parallel; moving, out of plane.
   SceneDef def;
   def.cloth.cols = def.cloth.rows = 128;
-  const ClothModel m = build_grid(def.cloth);
+  const ClothModel m = build_model(def.cloth);
   ClothState s = initial_state(def.cloth, m);
   for (int32_t i = 0; i < m.size(); ++i) {
     s.x[i] += 0.1 * random_vec(i);
@@ -253,7 +253,7 @@ TEST(Normals, AreUnitAndAreaWeighted) {
   SceneDef def;
   def.cloth.orientation = Orientation::horizontal;
   def.cloth.perturbation = 0;
-  const ClothModel m = build_grid(def.cloth);
+  const ClothModel m = build_model(def.cloth);
   const ClothState s = initial_state(def.cloth, m);
   for (const Vec3& n : s.normal) EXPECT_LT((n - Vec3::UnitY()).norm(), 1e-12);
 }
@@ -263,7 +263,7 @@ TEST(Normals, OnACrumpledGridAreEachTrianglesCrossProductSummedAtItsCorners) {
   SceneDef def;
   def.cloth.cols = 7;
   def.cloth.rows = 5;
-  ClothModel m = build_grid(def.cloth);
+  ClothModel m = build_model(def.cloth);
   ClothState s = initial_state(def.cloth, m);
   for (int32_t p = 0; p < m.size(); ++p) s.x[p] += 0.3 * random_vec(p);
   update_normals(m, s);
@@ -454,12 +454,12 @@ TEST(StabilityBound, MatchesTheDampedOscillatorCondition) {
   def.cloth.shear = {0.0, 0.0};
   def.cloth.bending = {0.0, 0.0};
   def.cloth.mass = 4.0;  // 1 kg each
-  const ClothModel m = build_grid(def.cloth);
+  const ClothModel m = build_model(def.cloth);
   const ClothState s = initial_state(def.cloth, m);
   // Each particle has 2 structural springs: Σ2k/m = 400, so h = 2/sqrt(400) = 0.1.
   EXPECT_NEAR(explicit_step_bound(m, s.inv_mass), 0.1, 1e-12);
   def.cloth.structural = {100.0, 5.0};  // γ = 2·2·5 = 20: h = 4/(20 + sqrt(400 + 1600))
-  const ClothModel md = build_grid(def.cloth);
+  const ClothModel md = build_model(def.cloth);
   EXPECT_NEAR(explicit_step_bound(md, s.inv_mass), 4.0 / (20.0 + std::sqrt(2000.0)), 1e-12);
 }
 

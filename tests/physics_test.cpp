@@ -74,7 +74,7 @@ TEST(AirDrag, ReachesTerminalSpeedSqrtMgOverRhoA) {
 
 TEST(HangScene, ComesToRestWithPinnedCornersExactlyFixed) {
   Simulation sim(shipped("hang"));
-  const int32_t tl = sim.model().index(0, 0), tr = sim.model().index(sim.model().cols - 1, 0);
+  const int32_t tl = sim.model().index(0, 0), tr = sim.model().index(sim.model().grid.cols - 1, 0);
   const Vec3 left = sim.state().x[tl], right = sim.state().x[tr];
   while (sim.time() < 10.0 - 1e-9) ASSERT_TRUE(sim.step());
   const Diagnostics d = sim.diagnostics();
@@ -94,7 +94,7 @@ TEST(SphereScene, ClothRestsOnTheSphereWithoutEnteringIt) {
   EXPECT_LE(d.max_penetration, 0.01 * sphere.radius);
   EXPECT_LT(d.kinetic_energy, 1e-3);  // at rest
   // On it: the middle of the cloth sits on top of the sphere, within the contact thickness.
-  const Vec3 middle = sim.state().x[sim.model().index(sim.model().cols / 2, sim.model().rows / 2)];
+  const Vec3 middle = sim.state().x[sim.model().index(sim.model().grid.cols / 2, sim.model().grid.rows / 2)];
   Vec3 n;
   EXPECT_NEAR(signed_distance(sphere, middle, n), sphere.thickness, 0.02);
   EXPECT_GT(n.y(), 0.9);
@@ -188,7 +188,7 @@ TEST(Drag, HeldParticleFollowsTheHandAndKeepsItsVelocityOnRelease) {
 TEST(Pins, TogglingAPinHoldsTheParticleWhereItIs) {
   Simulation sim(shipped("hang"));
   for (int f = 0; f < 30; ++f) ASSERT_TRUE(sim.step());
-  const int32_t p = sim.model().index(sim.model().cols / 2, sim.model().rows - 1);
+  const int32_t p = sim.model().index(sim.model().grid.cols / 2, sim.model().grid.rows - 1);
   sim.set_pinned(p, true);
   const Vec3 held = sim.state().x[p];
   for (int f = 0; f < 30; ++f) ASSERT_TRUE(sim.step());
@@ -224,7 +224,7 @@ TEST(Grid, BuildsTheThreeSpringKindsWithFlatRestLengths) {
   def.cloth.rows = 4;
   def.cloth.width = 4.0;   // dx = 1
   def.cloth.height = 3.0;  // dy = 1
-  const ClothModel m = build_grid(def.cloth);
+  const ClothModel m = build_model(def.cloth);
   int count[kSpringKinds] = {0, 0, 0};
   for (const Spring& s : m.springs) {
     ++count[static_cast<int>(s.kind)];

@@ -1,5 +1,5 @@
-// The cloth: its fixed set-up (ClothModel: springs, triangles, masses) and its running state
-// (ClothState: positions, velocities, pins). Set-up is built once; stepping changes the state.
+// The cloth: its fixed set-up (ClothModel: springs, triangles, masses), built once from a grid
+// or any triangle mesh, and its running state (ClothState: positions, velocities, pins).
 #pragma once
 
 #include <array>
@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "drape/math.h"
+#include "drape/mesh.h"
 #include "drape/scene.h"
 
 namespace drape {
@@ -26,32 +27,54 @@ struct Spring {
   SpringKind kind = SpringKind::structural;
 };
 
-using Triangle = std::array<int32_t, 3>;
+/// The row/column layout of a cloth built by the grid generator, which fast paths may use
+/// (xpbd's line passes); every path also works without it. Particle (col, row) is
+/// row·cols + col. Absent (cols = rows = 0) for a mesh.
+struct GridTopology {
+  int cols = 0;
+  int rows = 0;
+  bool present() const { return cols > 0; }
+  int32_t index(int col, int row) const { return row * cols + col; }
+};
 
 /// What does not change while the cloth moves.
 struct ClothModel {
-  int cols = 0;
-  int rows = 0;
-  /// Springs grouped by colour: no two springs of one colour share a particle, so each colour
-  /// can be processed in parallel without atomics and in a fixed order (deterministic results
-  /// for any thread count). Colour c holds springs [colour_begin[c], colour_begin[c + 1]).
+  GridTopology grid;  ///< present when the grid generator built the cloth
+  /// Springs grouped by colour: no two springs of one of the first `independent_colours`
+  /// colours share a particle, so each of those can be processed in parallel without atomics
+  /// and in a fixed order (deterministic results for any thread count). Colour c holds springs
+  /// [colour_begin[c], colour_begin[c + 1]). A last colour past them, if any, holds the
+  /// springs greedy colouring could not place (around a vertex of very high valence): it must
+  /// be processed by one thread (colour_is_independent).
   std::vector<Spring> springs;
   std::vector<int32_t> colour_begin;
+  int independent_colours = 0;
   std::vector<Triangle> triangles;  ///< counter-clockwise seen from the front
-  /// The triangles are build_grid's, two per quad in its order (update_normals then takes the
-  /// grid's shortcut).
+  /// The triangles are the grid generator's, two per quad in its order (update_normals then
+  /// takes the grid's shortcut).
   bool grid_triangles = false;
   /// The triangles around each particle: particle p's are
   /// vertex_triangles[vertex_triangle_begin[p] .. vertex_triangle_begin[p + 1]).
   std::vector<int32_t> vertex_triangle_begin;
   std::vector<int32_t> vertex_triangles;
-  std::vector<Vec2> uv;             ///< texture coordinates in [0, 1]², u along the columns
-  std::vector<Vec3> rest_position;  ///< m, the flat grid before perturbation
+  /// Per particle, texture coordinates for drawing: the grid's (u along the columns, v down the
+  /// rows, in [0, 1]), a mesh's own (its first corner's at a seam), or, for a mesh without
+  /// any, the rest shape projected on its widest plane.
+  std::vector<Vec2> uv;
+  bool has_texcoords = false;  ///< the mesh came with texture coordinates (or is a grid)
+  /// A mesh's texture coordinates per triangle corner, as it had them (seams kept), for export;
+  /// empty when `uv` holds them exactly (grids, meshes without seams) or there are none.
+  std::vector<Vec2> texcoords;
+  std::vector<Triangle> triangle_texcoords;
+  std::vector<Vec3> rest_position;  ///< m, the rest shape (before the perturbation)
   std::vector<double> mass;         ///< kg per particle
+  double mean_edge = 0.0;           ///< m, mean rest length of the structural springs
+  uint64_t id = 0;  ///< different for every model built (so a drawing knows when to upload)
 
   int32_t size() const { return static_cast<int32_t>(mass.size()); }
-  int32_t index(int col, int row) const { return row * cols + col; }
+  int32_t index(int col, int row) const { return grid.index(col, row); }
   int colours() const { return static_cast<int>(colour_begin.size()) - 1; }
+  bool colour_is_independent(int c) const { return c < independent_colours; }
 };
 
 /// What changes while the cloth moves.
@@ -65,12 +88,19 @@ struct ClothState {
   std::vector<double> area;       ///< m², a third of the adjacent triangles' areas
 };
 
-/// Builds the grid's particles, springs (structural, shear, bending), triangles and uv.
-/// `def` must have passed check().
-ClothModel build_grid(const ClothDef& def);
+/// Builds the cloth `def` describes: the grid's particles, springs (structural, shear,
+/// bending), triangles and uv, or a mesh's (def.mesh, placed by def.transform) with its
+/// structural and bending springs and masses by area. `def` must have passed check(); a
+/// problem only the built cloth shows (a pin box holding no vertex) throws InputError.
+ClothModel build_model(const ClothDef& def);
 
-/// The start state: the flat grid plus the deterministic perturbation, at rest, pins applied.
+/// The start state: the rest shape plus the deterministic perturbation along the rest normals,
+/// at rest, pins applied. Throws InputError for a pin that names no particle.
 ClothState initial_state(const ClothDef& def, const ClothModel& model);
+
+/// The particles `def.pins` name on `model`, in increasing order without repeats. Throws
+/// InputError naming the pin ("cloth.pins[k]") when one names no particle.
+std::vector<int32_t> pinned_particles(const ClothDef& def, const ClothModel& model);
 
 /// Recomputes state.normal and state.area from state.x.
 void update_normals(const ClothModel& model, ClothState& state);

@@ -3,11 +3,13 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "drape/math.h"
+#include "drape/mesh.h"
 
 namespace drape {
 
@@ -22,11 +24,34 @@ enum class Orientation : uint8_t {
   horizontal  ///< lies in the x–z plane at height origin.y; columns toward +x, rows toward +z
 };
 
-/// A pinned particle, by grid index. Row 0 is the top row; a negative index counts from the
+enum class PinKind : uint8_t {
+  grid,    ///< a grid index [col, row] (corner names are grid indices); grids only
+  vertex,  ///< a vertex index, 0-based as in the OBJ file; any cloth
+  box      ///< every vertex inside an axis-aligned box at the start; any cloth
+};
+
+/// Pinned particles. A grid index counts row 0 as the top row; a negative index counts from the
 /// end (−1 is the last column or row), so {-1, 0} is the top-right corner at any resolution.
 struct Pin {
-  int col = 0;
-  int row = 0;
+  int col = 0;  ///< grid: column
+  int row = 0;  ///< grid: row
+  PinKind kind = PinKind::grid;
+  int32_t vertex = 0;               ///< vertex: its index
+  Vec3 box_min = Vec3::Zero();      ///< m, box: the corner with the smallest coordinates
+  Vec3 box_max = Vec3::Zero();      ///< m, box: the opposite corner
+  static Pin at_vertex(int32_t v) {
+    Pin p;
+    p.kind = PinKind::vertex;
+    p.vertex = v;
+    return p;
+  }
+  static Pin in_box(const Vec3& lo, const Vec3& hi) {
+    Pin p;
+    p.kind = PinKind::box;
+    p.box_min = lo;
+    p.box_max = hi;
+    return p;
+  }
 };
 
 /// Long-range attachments (Kim et al. 2012): each free particle stays within its rest distance
@@ -36,21 +61,33 @@ struct LongRangeDef {
   double slack = 0.0;    ///< fraction of the rest distance allowed beyond it, in [0, 10]
 };
 
-/// A rectangular grid cloth.
+/// The cloth: a rectangular grid (the default), or any triangle mesh (`mesh`).
 struct ClothDef {
+  // The grid generator's keys (an error beside a mesh, except at their defaults).
   double width = 2.0;           ///< m, along the columns (x)
   double height = 2.0;          ///< m, along the rows
   int cols = 32;                ///< particles per row, >= 2
   int rows = 32;                ///< particles per column, >= 2
   Vec3 origin{-1.0, 2.0, 0.0};  ///< m, top-left corner (see Orientation)
   Orientation orientation = Orientation::vertical;
-  double mass = 1.0;                       ///< kg, total; each particle gets mass / count
-  std::vector<Pin> pins{{0, 0}, {-1, 0}};  ///< pinned particles: the top corners
-  SpringParams structural{2000.0, 0.5};    ///< right and lower neighbours
-  SpringParams shear{500.0, 0.5};          ///< both diagonals of each quad
-  SpringParams bending{50.0, 0.1};         ///< two steps right and two steps down
-  double perturbation = 1e-4;  ///< m, deterministic out-of-plane jitter of the start; 0 = flat
-  LongRangeDef long_range;     ///< `false`, `true` or {"slack": s} in scene files
+  // A mesh instead of the grid.
+  std::shared_ptr<const ClothMesh> mesh;  ///< the shape as loaded; null: the grid
+  std::string mesh_file;                  ///< where `mesh` was read from (messages, scene files)
+  MeshTransform transform;                ///< places the mesh (and its rest shape)
+  // Both.
+  double mass = 1.0;  ///< kg, total; grid: mass / count each; mesh: shared by area
+  std::vector<Pin> pins{{0, 0}, {-1, 0}};  ///< pinned particles: the grid's top corners
+  SpringParams structural{2000.0, 0.5};    ///< grid: right and lower neighbours; mesh: each edge
+  SpringParams shear{500.0, 0.5};          ///< grid: both diagonals of each quad; mesh: none
+  /// grid: two steps right and two steps down; mesh: across each edge two triangles share,
+  /// between their far vertices
+  SpringParams bending{50.0, 0.1};
+  /// Largest out-of-plane displacement of the start positions, as a fraction of the mean rest
+  /// length of the structural springs (deterministic per particle, along the rest normal), so a
+  /// symmetric cloth can fold; 0 = exactly as built. The default is 1e-4 m on the default
+  /// 2 m cloth of 32 × 32 particles.
+  double perturbation = 0.00155;
+  LongRangeDef long_range;  ///< `false`, `true` or {"slack": s} in scene files
 };
 
 enum class WindModel : uint8_t {

@@ -17,6 +17,7 @@
 namespace drape {
 
 class Solver;
+class LongRange;
 
 /// Figures that describe the state; cheap enough to take once per frame.
 struct Diagnostics {
@@ -40,6 +41,9 @@ struct MemoryUse {
     return particles > 0 ? static_cast<double>(total()) / static_cast<double>(particles) : 0.0;
   }
 };
+
+/// How many particles the cloth `def` describes will have (grid: cols × rows; mesh: vertices).
+int64_t particle_count(const ClothDef& def);
 
 /// An upper estimate of Simulation(def).memory().total(), for budgets checked before building:
 /// per particle, the state and model (about 450 bytes) plus the method's workspace, which for
@@ -76,8 +80,8 @@ class Simulation {
 
   /// Applies a changed definition. Forces, colliders, spring parameters, mass and solver
   /// settings take effect at once; returns false (and changes nothing) when the change needs a
-  /// new cloth (resolution, size, origin, orientation, pins, perturbation): build a
-  /// new Simulation then. Throws InputError if `def` fails check().
+  /// new cloth (resolution, size, origin, orientation, mesh, transform, pins, perturbation):
+  /// build a new Simulation then. Throws InputError if `def` fails check().
   bool reconfigure(const SceneDef& def);
 
   /// The seed's mouse drag: grab() holds a particle still, move_grab() places it (velocity zero),
@@ -99,8 +103,10 @@ class Simulation {
   ClothModel model_;
   ClothState state_;
   std::vector<Collider> colliders_;
+  std::unique_ptr<LongRange> attachments_;  ///< rebuilt when the pins change
   std::unique_ptr<Solver> solver_;
   std::vector<double> scratch_;
+  double diagonal_ = 0.0;  ///< m, of the rest shape's bounding box (divergence tolerance)
   int64_t frame_ = 0;
   int32_t grabbed_ = -1;
   double grabbed_inv_mass_ = 0.0;

@@ -1,10 +1,14 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
+#include <string>
 #include <utility>
 #include <vector>
 
 #include "drape/cloth.h"
+#include "drape/error.h"
+#include "model/model.h"
 #include "parallel.h"
 
 namespace drape {
@@ -33,95 +37,60 @@ double jitter(int64_t index) {
   return static_cast<double>(mix(static_cast<uint64_t>(index)) >> 11) * 0x1.0p-52 - 1.0;
 }
 
-// Greedy edge colouring: each spring takes the smallest colour that neither end uses yet.
-// A grid needs about 14 colours. Springs are then stably sorted by colour.
-void colour_springs(int32_t particles, std::vector<Spring>& springs,
-                    std::vector<int32_t>& colour_begin) {
-  std::vector<uint64_t> used(particles, 0);
-  std::vector<int> colour(springs.size());
-  int colours = 0;
-  for (size_t s = 0; s < springs.size(); ++s) {
-    const uint64_t taken = used[springs[s].i] | used[springs[s].j];
-    int c = 0;
-    while (c < 63 && (taken >> c & 1u)) ++c;
-    colour[s] = c;  // colour 63 is a shared overflow; never reached by grids or sane meshes
-    used[springs[s].i] |= uint64_t{1} << c;
-    used[springs[s].j] |= uint64_t{1} << c;
-    colours = std::max(colours, c + 1);
-  }
-  std::vector<Spring> sorted;
-  sorted.reserve(springs.size());
-  colour_begin.assign(1, 0);
-  for (int c = 0; c < colours; ++c) {
-    for (size_t s = 0; s < springs.size(); ++s)
-      if (colour[s] == c) sorted.push_back(springs[s]);
-    colour_begin.push_back(static_cast<int32_t>(sorted.size()));
-  }
-  springs = std::move(sorted);
-}
-
 }  // namespace
 
-ClothModel build_grid(const ClothDef& def) {
-  ClothModel m;
-  m.cols = def.cols;
-  m.rows = def.rows;
-  const int32_t n = def.cols * def.rows;
-  const double dx = def.width / (def.cols - 1);
-  const double dy = def.height / (def.rows - 1);
-  // Unit vectors along the columns and the rows.
-  const Vec3 across(1.0, 0.0, 0.0);
-  const Vec3 down =
-      def.orientation == Orientation::vertical ? Vec3(0.0, -1.0, 0.0) : Vec3(0.0, 0.0, 1.0);
+ClothModel build_model(const ClothDef& def) {
+  return def.mesh ? model::from_mesh(def) : model::grid(def);
+}
 
-  m.rest_position.resize(n);
-  m.uv.resize(n);
-  m.mass.assign(n, def.mass / n);
-  for (int r = 0; r < def.rows; ++r) {
-    for (int c = 0; c < def.cols; ++c) {
-      const int32_t i = m.index(c, r);
-      m.rest_position[i] = def.origin + (c * dx) * across + (r * dy) * down;
-      m.uv[i] = Vec2(static_cast<double>(c) / (def.cols - 1),
-                     static_cast<double>(r) / (def.rows - 1));
+std::vector<int32_t> pinned_particles(const ClothDef& def, const ClothModel& model) {
+  std::vector<int32_t> out;
+  for (size_t k = 0; k < def.pins.size(); ++k) {
+    const Pin& p = def.pins[k];
+    const std::string path = "cloth.pins[" + std::to_string(k) + "]";
+    switch (p.kind) {
+      case PinKind::grid: {
+        const GridTopology& g = model.grid;
+        if (!g.present())
+          throw InputError(path, "a grid index or corner name needs a grid cloth; pin a mesh "
+                                 "by {\"vertex\": i} or {\"box\": {\"min\": [...], \"max\": [...]}}");
+        out.push_back(g.index(p.col < 0 ? p.col + g.cols : p.col, p.row < 0 ? p.row + g.rows : p.row));
+        break;
+      }
+      case PinKind::vertex:
+        if (p.vertex < 0 || p.vertex >= model.size())
+          throw InputError(path + ".vertex", "is " + std::to_string(p.vertex) + ", but the cloth has " +
+                                                 std::to_string(model.size()) + " vertices (0 to " +
+                                                 std::to_string(model.size() - 1) + ")");
+        out.push_back(p.vertex);
+        break;
+      case PinKind::box: {
+        const size_t before = out.size();
+        for (int32_t i = 0; i < model.size(); ++i) {
+          const Vec3& x = model.rest_position[i];
+          if ((x.array() >= p.box_min.array()).all() && (x.array() <= p.box_max.array()).all())
+            out.push_back(i);
+        }
+        if (out.size() == before) {
+          Vec3 lo = model.rest_position[0], hi = lo;
+          for (const Vec3& x : model.rest_position) {
+            lo = lo.cwiseMin(x);
+            hi = hi.cwiseMax(x);
+          }
+          char problem[320];
+          std::snprintf(problem, sizeof problem,
+                        "holds no vertex of the cloth (the cloth spans [%.4g, %.4g, %.4g] to "
+                        "[%.4g, %.4g, %.4g] at the start)",
+                        lo.x(), lo.y(), lo.z(), hi.x(), hi.y(), hi.z());
+          throw InputError(path + ".box", problem);
+        }
+        break;
+      }
     }
   }
-
-  auto add = [&](int c0, int r0, int c1, int r1, const SpringParams& p, SpringKind kind) {
-    if (c0 >= def.cols || c1 >= def.cols || r1 >= def.rows) return;
-    const int32_t i = m.index(c0, r0), j = m.index(c1, r1);
-    m.springs.push_back(
-        {i, j, (m.rest_position[j] - m.rest_position[i]).norm(), p.stiffness, p.damping, kind});
-  };
-  for (int r = 0; r < def.rows; ++r) {
-    for (int c = 0; c < def.cols; ++c) {
-      add(c, r, c + 1, r, def.structural, SpringKind::structural);
-      add(c, r, c, r + 1, def.structural, SpringKind::structural);
-      add(c, r, c + 1, r + 1, def.shear, SpringKind::shear);
-      add(c + 1, r, c, r + 1, def.shear, SpringKind::shear);
-      add(c, r, c + 2, r, def.bending, SpringKind::bending);
-      add(c, r, c, r + 2, def.bending, SpringKind::bending);
-    }
-  }
-  colour_springs(n, m.springs, m.colour_begin);
-
-  // Two triangles per quad; (i, i + cols, i + 1) faces +z when vertical and +y when horizontal.
-  for (int r = 0; r + 1 < def.rows; ++r) {
-    for (int c = 0; c + 1 < def.cols; ++c) {
-      const int32_t i = m.index(c, r), right = i + 1, below = i + def.cols;
-      m.triangles.push_back({i, below, right});
-      m.triangles.push_back({right, below, below + 1});
-    }
-  }
-  m.grid_triangles = true;
-  m.vertex_triangle_begin.assign(n + 1, 0);
-  for (const Triangle& t : m.triangles)
-    for (int32_t p : t) ++m.vertex_triangle_begin[p + 1];
-  for (int32_t p = 0; p < n; ++p) m.vertex_triangle_begin[p + 1] += m.vertex_triangle_begin[p];
-  m.vertex_triangles.resize(m.triangles.size() * 3);
-  std::vector<int32_t> fill(m.vertex_triangle_begin.begin(), m.vertex_triangle_begin.end() - 1);
-  for (size_t t = 0; t < m.triangles.size(); ++t)
-    for (int32_t p : m.triangles[t]) m.vertex_triangles[fill[p]++] = static_cast<int32_t>(t);
-  return m;
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
+  return out;
 }
 
 ClothState initial_state(const ClothDef& def, const ClothModel& model) {
@@ -133,20 +102,20 @@ ClothState initial_state(const ClothDef& def, const ClothModel& model) {
   for (int32_t i = 0; i < n; ++i) s.inv_mass[i] = 1.0 / model.mass[i];
   s.pinned.assign(n, 0);
   s.anchor.assign(n, Vec3::Zero());
-  for (const Pin& p : def.pins) {
-    const int32_t i = model.index(p.col < 0 ? p.col + model.cols : p.col,
-                                  p.row < 0 ? p.row + model.rows : p.row);
+  for (const int32_t i : pinned_particles(def, model)) {
     s.pinned[i] = 1;
     s.inv_mass[i] = 0.0;
   }
-  const Vec3 out_of_plane =
-      def.orientation == Orientation::vertical ? Vec3(0.0, 0.0, 1.0) : Vec3(0.0, 1.0, 0.0);
-  for (int32_t i = 0; i < n; ++i) {
-    if (!s.pinned[i]) s.x[i] += def.perturbation * jitter(i) * out_of_plane;
-    s.anchor[i] = s.x[i];
-  }
+  // The perturbation moves each free particle along its rest normal (out of a flat cloth's
+  // plane) by up to perturbation × the mean edge length.
   s.normal.assign(n, Vec3::Zero());
   s.area.assign(n, 0.0);
+  update_normals(model, s);
+  const double amplitude = def.perturbation * model.mean_edge;
+  for (int32_t i = 0; i < n; ++i) {
+    if (!s.pinned[i]) s.x[i] += amplitude * jitter(i) * s.normal[i];
+    s.anchor[i] = s.x[i];
+  }
   update_normals(model, s);
   return s;
 }
@@ -190,7 +159,7 @@ void gather_normals(const ClothModel& model, ClothState& state) {
 // their index, as gather_normals does; a row's missing neighbours (its ends, and the rows past
 // the cloth's edges) read as zero faces, which change no sum.
 void grid_normals(const ClothModel& m, ClothState& s) {
-  const int cols = m.cols, quads = cols - 1;
+  const int cols = m.grid.cols, quads = cols - 1;
   // A row of quads: for each of its two faces (i, below, right) and (right, below, below + 1),
   // the cross product's x, y, z and its length, each an array of quads + 2 numbers whose first
   // and last are the zero faces left and right of the row.
@@ -237,18 +206,18 @@ void grid_normals(const ClothModel& m, ClothState& s) {
       }
     };
 #pragma omp for schedule(static)
-    for (int r = 0; r < m.rows; ++r) {
+    for (int r = 0; r < m.grid.rows; ++r) {
       if (below_row == r - 1) {
         std::swap(above, below);
       } else if (r > 0) {
         fill(r - 1, above);
       }
-      if (r + 1 < m.rows) fill(r, below);
+      if (r + 1 < m.grid.rows) fill(r, below);
       below_row = r;
       // Particle c's faces, by index: the upper row's second face of quad c − 1, both of quad c;
       // the lower row's both of quad c − 1, first of quad c. Slot c + 1 of an array is quad c.
       const double* up = r > 0 ? above : none;
-      const double* down = r + 1 < m.rows ? below : none;
+      const double* down = r + 1 < m.grid.rows ? below : none;
       Vec3* normal = s.normal.data() + static_cast<size_t>(r) * cols;
       double* area = s.area.data() + static_cast<size_t>(r) * cols;
 #pragma omp simd
@@ -282,7 +251,8 @@ void update_normals(const ClothModel& model, ClothState& state) {
 
 int64_t heap_bytes(const ClothModel& m) {
   return heap_bytes(m.springs, m.colour_begin, m.triangles, m.vertex_triangle_begin,
-                    m.vertex_triangles, m.uv, m.rest_position, m.mass);
+                    m.vertex_triangles, m.uv, m.texcoords, m.triangle_texcoords, m.rest_position,
+                    m.mass);
 }
 
 int64_t heap_bytes(const ClothState& s) {

@@ -10,7 +10,7 @@ void add_springs(const ClothModel& model, const std::vector<Vec3>& x, const std:
                  std::vector<Vec3>& f) {
   for (int c = 0; c < model.colours(); ++c) {
     const int32_t begin = model.colour_begin[c], end = model.colour_begin[c + 1];
-#pragma omp parallel for schedule(static) if (worth_threads(end - begin))
+#pragma omp parallel for schedule(static) if (colour_in_parallel(model, c))
     for (int32_t s = begin; s < end; ++s) {
       const Spring& sp = model.springs[s];
       const Vec3 fi = spring_elastic(x[sp.i], x[sp.j], sp.stiffness, sp.rest) +

@@ -1,8 +1,10 @@
 // Long-range attachments (Kim, Chentanez & Müller-Fischer 2012, "Long range attachments – a
 // method to simulate inextensible clothing in computer games"): a unilateral distance limit
-// between each free particle and each pin, |x_p − x_pin| ≤ (1 + slack)·L_p,pin with L the rest
-// distance along the cloth. It stops mass–spring cloth from stretching like rubber under its
-// own weight at any stiffness, iteration count or step, for the cost of one pass.
+// between a free particle and a pin, |x_p − x_pin| ≤ (1 + slack)·L_p,pin with L the rest
+// distance along the cloth (the geodesic on its rest shape, not the straight line: a tube's
+// hem hangs from its waist along the tube). Each particle is tethered to its kMaxTethers nearest
+// pins along the cloth (to every pin when there are no more). They stop mass–spring cloth from
+// stretching like rubber under its own weight at any stiffness, iteration count or step.
 #pragma once
 
 #include <cmath>
@@ -34,40 +36,51 @@ inline void clamp_outward_velocity(const Vec3& u, Vec3& v) {
   if (vn > 0.0) v -= vn * u;
 }
 
-/// The attachments of one cloth: the pins they hang from. Rebuilt whenever pins change.
+/// The attachments of one cloth: each particle's tethers to pins. Rebuilt whenever pins change.
 class LongRange {
  public:
-  /// Collects the pinned particles (state.pinned) when `def.enabled`; nothing otherwise.
+  static constexpr int kMaxTethers = 4;  ///< tethers per particle, to its nearest pins
+
+  /// Collects the pinned particles (state.pinned) and measures each particle's tethers when
+  /// `def.enabled`; nothing otherwise.
   void prepare(const ClothModel& model, const ClothState& state, const LongRangeDef& def);
   bool active() const { return !pins_.empty(); }
-  /// Projects every free particle onto its limits (pins in a fixed order) and, when
-  /// `fix_velocity`, removes the outward velocity along each limit it hit. In parallel over
-  /// particles; deterministic.
-  void apply(const ClothModel& model, ClothState& state, bool fix_velocity) const;
+  /// Tethers per particle (slots: a particle with fewer has pin −1 in the rest).
+  int tethers() const { return tethers_; }
+  /// The pin of particle p's tether t (increasing with t), or −1.
+  int32_t pin(int32_t p, int t) const { return pin_[static_cast<size_t>(p) * tethers_ + t]; }
+  /// The largest distance allowed between particle p and its tether t's pin, m.
+  double limit(int32_t p, int t) const { return limit_[static_cast<size_t>(p) * tethers_ + t]; }
+  /// Whether tether t of every particle is pins()[t] (few pins, all reached): solvers may then
+  /// treat a tether slot as one pin.
+  bool uniform() const { return uniform_; }
+  /// Projects every free particle onto its limits (tethers in order) and, when `fix_velocity`,
+  /// removes the outward velocity along each limit it hit. In parallel over particles;
+  /// deterministic.
+  void apply(ClothState& state, bool fix_velocity) const;
   /// Projects one position xp of free particle p onto its limits (pins at x), in the same order.
-  void project(const ClothModel& model, const std::vector<Vec3>& x, int32_t p, Vec3& xp) const {
-    for (const int32_t a : pins_) project_attachment(x[a], limit(model, p, a), xp);
+  void project(const std::vector<Vec3>& x, int32_t p, Vec3& xp) const {
+    for (int t = 0; t < tethers_ && pin(p, t) >= 0; ++t)
+      project_attachment(x[pin(p, t)], limit(p, t), xp);
   }
   /// Whether position xp of free particle p lies beyond, or within `reach` of, one of its limits
   /// (pins at x).
-  bool within_reach(const ClothModel& model, const std::vector<Vec3>& x, int32_t p, const Vec3& xp,
-                    double reach) const {
-    for (const int32_t a : pins_)
-      if ((xp - x[a]).norm() > limit(model, p, a) - reach) return true;
+  bool within_reach(const std::vector<Vec3>& x, int32_t p, const Vec3& xp, double reach) const {
+    for (int t = 0; t < tethers_ && pin(p, t) >= 0; ++t)
+      if ((xp - x[pin(p, t)]).norm() > limit(p, t) - reach) return true;
     return false;
   }
-  /// The pinned particles, in order.
+  /// The pinned particles, in increasing order.
   const std::vector<int32_t>& pins() const { return pins_; }
-  /// The largest distance allowed between particle p and pin a, m.
-  double limit(const ClothModel& model, int32_t p, int32_t a) const {
-    // The rest distance along a flat grid is the straight line between rest positions (the
-    // geodesic of a flat rectangle), so it is computed here rather than stored per pair.
-    return scale_ * (model.rest_position[p] - model.rest_position[a]).norm();
-  }
+  /// Heap bytes held.
+  int64_t bytes() const { return heap_bytes(pins_, pin_, limit_); }
 
  private:
   std::vector<int32_t> pins_;
-  double scale_ = 1.0;  ///< 1 + slack
+  int tethers_ = 0;
+  std::vector<int32_t> pin_;   ///< per particle and tether: the pin, or −1
+  std::vector<double> limit_;  ///< per particle and tether: (1 + slack) × the rest distance
+  bool uniform_ = false;
 };
 
 }  // namespace drape

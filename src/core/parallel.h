@@ -5,6 +5,8 @@
 
 #include <cstdint>
 
+#include "drape/cloth.h"
+
 #ifdef _OPENMP
 #include <omp.h>
 #endif
@@ -14,6 +16,12 @@ namespace drape {
 inline constexpr int64_t kParallelMin = 8192;  ///< items per loop before threads are used
 
 inline bool worth_threads(int64_t items) { return items >= kParallelMin; }
+
+/// Whether spring colour c of a model may be shared out to threads: one of its independent
+/// colours (no two of its springs share a particle), large enough to be worth them.
+inline bool colour_in_parallel(const ClothModel& m, int c) {
+  return m.colour_is_independent(c) && worth_threads(m.colour_begin[c + 1] - m.colour_begin[c]);
+}
 
 /// Threads of the parallel region this is called in (1 outside one, and without OpenMP).
 inline int team_size() {

@@ -4,6 +4,7 @@
 
 #include "drape/error.h"
 #include "drape/scene.h"
+#include "model/model.h"
 
 namespace drape {
 
@@ -98,27 +99,78 @@ void check_springs(const SpringParams& p, const std::string& path) {
 
 void check(const SceneDef& def) {
   const ClothDef& c = def.cloth;
-  range(c.width, 0.0, 1e4, "cloth.size[0]", true);
-  range(c.height, 0.0, 1e4, "cloth.size[1]", true);
-  require(c.cols >= 2 && c.rows >= 2, "cloth.resolution",
-          "is " + std::to_string(c.cols) + "x" + std::to_string(c.rows) +
-              ", must be at least 2x2 particles");
-  const int64_t particles = int64_t{c.cols} * int64_t{c.rows};
-  require(particles <= kMaxParticles, "cloth.resolution",
-          std::to_string(c.cols) + "x" + std::to_string(c.rows) + " is " +
-              std::to_string(particles) + " particles, more than the limit of " +
-              std::to_string(kMaxParticles));
-  finite(c.origin, "cloth.origin");
+  if (c.mesh) {
+    // The grid's keys mean nothing beside a mesh: one set to other than its default is a
+    // mistake worth naming (a scene file's loader names the keys it found, too).
+    const ClothDef grid;
+    std::string grid_keys;
+    auto key = [&](bool changed, const char* name) {
+      if (changed) grid_keys += std::string(grid_keys.empty() ? "" : ", ") + name;
+    };
+    key(c.width != grid.width || c.height != grid.height, "cloth.size");
+    key(c.cols != grid.cols || c.rows != grid.rows, "cloth.resolution");
+    key(c.origin != grid.origin, "cloth.origin");
+    key(c.orientation != grid.orientation, "cloth.orientation");
+    require(grid_keys.empty(), "cloth.mesh",
+            "is given, so the grid's keys (" + grid_keys +
+                ") have no meaning; place the mesh with cloth.transform instead");
+    const std::string where = c.mesh_file.empty() ? "cloth.mesh" : "cloth.mesh (" + c.mesh_file + ")";
+    model::check_mesh(*c.mesh, where);
+    finite(c.transform.translate, "cloth.transform.translate");
+    finite(c.transform.rotate, "cloth.transform.rotate");
+    finite(c.transform.scale, "cloth.transform.scale");
+    for (int k = 0; k < 3; ++k)
+      require(c.transform.scale[k] != 0.0 && std::abs(c.transform.scale[k]) <= 1e6,
+              "cloth.transform.scale",
+              "is " + num(c.transform.scale[k]) + " along " + "xyz"[k] +
+                  ", must be non-zero and at most 1e6 in size (a zero scale flattens the cloth)");
+  } else {
+    range(c.width, 0.0, 1e4, "cloth.size[0]", true);
+    range(c.height, 0.0, 1e4, "cloth.size[1]", true);
+    require(c.cols >= 2 && c.rows >= 2, "cloth.resolution",
+            "is " + std::to_string(c.cols) + "x" + std::to_string(c.rows) +
+                ", must be at least 2x2 particles");
+    const int64_t particles = int64_t{c.cols} * int64_t{c.rows};
+    require(particles <= kMaxParticles, "cloth.resolution",
+            std::to_string(c.cols) + "x" + std::to_string(c.rows) + " is " +
+                std::to_string(particles) + " particles, more than the limit of " +
+                std::to_string(kMaxParticles));
+    finite(c.origin, "cloth.origin");
+  }
   range(c.mass, 0.0, 1e6, "cloth.mass", true);
   for (size_t k = 0; k < c.pins.size(); ++k) {
     const Pin& p = c.pins[k];
-    if (p.col >= -c.cols && p.col < c.cols && p.row >= -c.rows && p.row < c.rows) continue;
-    char problem[200];
-    std::snprintf(problem, sizeof problem,
-                  "[%d, %d] is outside the %dx%d grid (columns 0..%d, rows 0..%d, or negative "
-                  "from the end)",
-                  p.col, p.row, c.cols, c.rows, c.cols - 1, c.rows - 1);
-    throw InputError("cloth.pins[" + std::to_string(k) + "]", problem);
+    const std::string path = "cloth.pins[" + std::to_string(k) + "]";
+    switch (p.kind) {
+      case PinKind::grid: {
+        require(!c.mesh, path,
+                "a grid index or corner name needs a grid cloth; pin a mesh by {\"vertex\": i} "
+                "or {\"box\": {\"min\": [x, y, z], \"max\": [x, y, z]}}");
+        if (p.col >= -c.cols && p.col < c.cols && p.row >= -c.rows && p.row < c.rows) break;
+        char problem[200];
+        std::snprintf(problem, sizeof problem,
+                      "[%d, %d] is outside the %dx%d grid (columns 0..%d, rows 0..%d, or negative "
+                      "from the end)",
+                      p.col, p.row, c.cols, c.rows, c.cols - 1, c.rows - 1);
+        throw InputError(path, problem);
+      }
+      case PinKind::vertex: {
+        const int64_t count = c.mesh ? static_cast<int64_t>(c.mesh->positions.size())
+                                     : int64_t{c.cols} * c.rows;
+        require(p.vertex >= 0 && p.vertex < count, path + ".vertex",
+                "is " + std::to_string(p.vertex) + ", but the cloth has " + std::to_string(count) +
+                    " vertices (0 to " + std::to_string(count - 1) + ")");
+        break;
+      }
+      case PinKind::box:
+        finite(p.box_min, path + ".box.min");
+        finite(p.box_max, path + ".box.max");
+        for (int a = 0; a < 3; ++a)
+          require(p.box_min[a] <= p.box_max[a], path + ".box",
+                  std::string("min is above max along ") + "xyz"[a] + " (" + num(p.box_min[a]) +
+                      " > " + num(p.box_max[a]) + ")");
+        break;
+    }
   }
   check_springs(c.structural, "cloth.springs.structural");
   check_springs(c.shear, "cloth.springs.shear");

@@ -6,17 +6,25 @@
 
 #include "drape/error.h"
 #include "forces.h"
-#include "solver.h"
+#include "long_range.h"
+#include "solvers/solver.h"
 
 namespace drape {
 
-Simulation::Simulation(const SceneDef& def) : def_(def) {
+Simulation::Simulation(const SceneDef& def) : def_(def), attachments_(std::make_unique<LongRange>()) {
   check(def_);
-  model_ = build_grid(def_.cloth);
+  model_ = build_model(def_.cloth);
   state_ = initial_state(def_.cloth, model_);
+  Vec3 lo = model_.rest_position[0], hi = lo;
+  for (const Vec3& x : model_.rest_position) {
+    lo = lo.cwiseMin(x);
+    hi = hi.cwiseMax(x);
+  }
+  diagonal_ = (hi - lo).norm();
   colliders_ = make_colliders(def_.colliders);
-  solver_ = make_solver(def_.solver);
+  solver_ = make_solver(def_.solver, model_);
   scratch_.reserve(model_.size());
+  attachments_->prepare(model_, state_, def_.cloth.long_range);
   prepare_solver();
   rebase_energy();
 }
@@ -28,7 +36,7 @@ Simulation& Simulation::operator=(Simulation&&) noexcept = default;
 int Simulation::substeps_per_frame() const { return solver_->substeps(); }
 
 void Simulation::prepare_solver() {
-  World world{model_, state_, def_.forces, colliders_, time(), def_.cloth.long_range};
+  World world{model_, state_, def_.forces, colliders_, time(), *attachments_};
   solver_->prepare(world, def_.solver);
 }
 
@@ -66,7 +74,7 @@ const char* divergence_hint(Method m) {
 
 bool Simulation::step() {
   if (diverged()) return false;
-  World world{model_, state_, def_.forces, colliders_, time(), def_.cloth.long_range};
+  World world{model_, state_, def_.forces, colliders_, time(), *attachments_};
   solver_->step_frame(world, def_.solver.dt);
   ++frame_;
 
@@ -96,8 +104,7 @@ bool Simulation::step() {
                                                             time(), scratch_);
     if (grabbed_ >= 0) rebase_energy();
     const double mass = def_.cloth.mass;
-    const double diagonal = std::hypot(def_.cloth.width, def_.cloth.height);
-    const double tolerance = 0.5 * mass + mass * def_.forces.gravity.norm() * diagonal;
+    const double tolerance = 0.5 * mass + mass * def_.forces.gravity.norm() * diagonal_;
     double energy = watch.kinetic;
     if (solver_->stretch_is_energy()) energy += forces::spring_energy(model_, state_.x);
     const double supplied = energy_ref_ + external_work_ - watch.gravity;
@@ -114,8 +121,13 @@ bool Simulation::step() {
   return !diverged();
 }
 
+int64_t particle_count(const ClothDef& def) {
+  return def.mesh ? static_cast<int64_t>(def.mesh->positions.size())
+                  : int64_t{def.cols} * def.rows;
+}
+
 int64_t estimated_memory(const SceneDef& def) {
-  const int64_t n = int64_t{def.cloth.cols} * def.cloth.rows;
+  const int64_t n = particle_count(def.cloth);
   // Measured per particle (memory() at 64×64 and 256×256): state 113 B, model 333–338 B;
   // workspace symplectic 32 B, xpbd 136 B (84 B single; with line passes 297 B, 164 B
   // single), implicit 781–789 B, fast 1036 B at 4096 particles rising to 1508 B at 65 536
@@ -129,6 +141,8 @@ int64_t estimated_memory(const SceneDef& def) {
       workspace = std::max<int64_t>(1024, 128 * static_cast<int64_t>(std::log2(double(n) + 1)));
       break;
   }
+  // Long-range attachments: up to LongRange::kMaxTethers pins and limits per particle.
+  if (def.cloth.long_range.enabled) workspace += 48;
   return n * (512 + workspace);
 }
 
@@ -136,7 +150,8 @@ MemoryUse Simulation::memory() const {
   MemoryUse m;
   m.state = heap_bytes(state_);
   m.model = heap_bytes(model_);
-  m.workspace = solver_->workspace_bytes() + heap_bytes(scratch_, colliders_);
+  m.workspace = solver_->workspace_bytes() + heap_bytes(scratch_, colliders_) +
+                attachments_->bytes();
   return m;
 }
 
@@ -171,13 +186,18 @@ Diagnostics Simulation::diagnostics() const {
 bool Simulation::reconfigure(const SceneDef& def) {
   check(def);
   const ClothDef &a = def_.cloth, &b = def.cloth;
-  const bool same_pins =
-      a.pins.size() == b.pins.size() &&
-      std::equal(a.pins.begin(), a.pins.end(), b.pins.begin(),
-                 [](const Pin& p, const Pin& q) { return p.col == q.col && p.row == q.row; });
+  auto same_pin = [](const Pin& p, const Pin& q) {
+    return p.kind == q.kind && p.col == q.col && p.row == q.row && p.vertex == q.vertex &&
+           p.box_min == q.box_min && p.box_max == q.box_max;
+  };
+  const bool same_pins = a.pins.size() == b.pins.size() &&
+                         std::equal(a.pins.begin(), a.pins.end(), b.pins.begin(), same_pin);
+  const bool same_transform = a.transform.translate == b.transform.translate &&
+                              a.transform.rotate == b.transform.rotate &&
+                              a.transform.scale == b.transform.scale;
   if (a.cols != b.cols || a.rows != b.rows || a.width != b.width || a.height != b.height ||
       a.origin != b.origin || a.orientation != b.orientation || a.perturbation != b.perturbation ||
-      !same_pins)
+      a.mesh != b.mesh || !same_transform || !same_pins)
     return false;
 
   // Build the new solver first so a refused set-up leaves the simulation as it was.
@@ -190,15 +210,18 @@ bool Simulation::reconfigure(const SceneDef& def) {
     s.stiffness = p.stiffness;
     s.damping = p.damping;
   }
-  const double m = b.mass / model_.size();
+  // Masses: the grid's equal shares exactly, a mesh's by area (scaled to the new total).
   for (int32_t i = 0; i < model_.size(); ++i) {
+    const double m = model_.grid.present() ? b.mass / model_.size() : model_.mass[i] * (b.mass / a.mass);
+    if (i == grabbed_) grabbed_inv_mass_ = 1.0 / m;
     model_.mass[i] = m;
     if (state_.inv_mass[i] != 0.0) state_.inv_mass[i] = 1.0 / m;
   }
-  if (grabbed_ >= 0) grabbed_inv_mass_ = 1.0 / m;
   colliders_ = make_colliders(def_.colliders);
   if (def.solver.method != old.solver.method || def.solver.precision != old.solver.precision)
-    solver_ = make_solver(def_.solver);
+    solver_ = make_solver(def_.solver, model_);
+  if (a.long_range.enabled != b.long_range.enabled || a.long_range.slack != b.long_range.slack)
+    attachments_->prepare(model_, state_, def_.cloth.long_range);
   try {
     prepare_solver();
   } catch (const InputError&) {
@@ -246,6 +269,7 @@ void Simulation::set_pinned(int32_t particle, bool pinned) {
     state_.inv_mass[particle] = pinned ? 0.0 : 1.0 / model_.mass[particle];
   }
   state_.v[particle].setZero();
+  attachments_->prepare(model_, state_, def_.cloth.long_range);
   prepare_solver();
   rebase_energy();
 }

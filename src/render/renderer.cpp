@@ -342,7 +342,7 @@ bool Renderer::update(const ClothModel& model, const ClothState& state) {
   pinned_ = state.pinned;
 
   glBindVertexArray(cloth_.vao);
-  if (model.cols != uploaded_cols_ || model.rows != uploaded_rows_) {
+  if (model.id != uploaded_model_) {
     std::vector<float> uv;
     uv.reserve(2 * model.uv.size());
     for (const Vec2& t : model.uv) uv.insert(uv.end(), {float(t.x()), float(t.y())});
@@ -351,8 +351,7 @@ bool Renderer::update(const ClothModel& model, const ClothState& state) {
     glBufferData(GL_ELEMENT_ARRAY_BUFFER, model.triangles.size() * sizeof(Triangle),
                  model.triangles.data(), GL_STATIC_DRAW);
     cloth_.count = static_cast<GLsizei>(3 * model.triangles.size());
-    uploaded_cols_ = model.cols;
-    uploaded_rows_ = model.rows;
+    uploaded_model_ = model.id;
   }
   glBindBuffer(GL_ARRAY_BUFFER, cloth_.position);
   glBufferData(GL_ARRAY_BUFFER, positions_.size() * sizeof(float), positions_.data(),
@@ -449,8 +448,12 @@ void Renderer::draw(const OrbitCamera& camera, const PixelRect& rect, const Clot
     set(surface_, "u_back", kBack);
     // Square checks about an eighth of the cloth's width across.
     const float checks_u = options.checker ? 8.0f : 0.0f;
+    // As many along v as keep them square: a grid's rows against its columns; a mesh's uv is
+    // scaled alike on both axes already.
     const float checks_v =
-        checks_u * static_cast<float>(model.rows - 1) / std::max(model.cols - 1, 1);
+        model.grid.present()
+            ? checks_u * static_cast<float>(model.grid.rows - 1) / std::max(model.grid.cols - 1, 1)
+            : checks_u;
     glUniform2f(loc(surface_, "u_checks"), checks_u, std::max(1.0f, std::round(checks_v)));
     glBindVertexArray(cloth_.vao);
     if (options.wireframe) {

@@ -75,7 +75,7 @@ class Renderer {
   std::vector<float> positions_, normals_;
   std::vector<Vec3> x_;
   std::vector<uint8_t> pinned_;
-  int uploaded_cols_ = -1, uploaded_rows_ = -1;  // the grid whose triangles are in the buffers
+  uint64_t uploaded_model_ = 0;  // the model (ClothModel::id) whose triangles are in the buffers
 };
 
 /// Reads `rect` of the current read framebuffer as RGBA rows, top row first.

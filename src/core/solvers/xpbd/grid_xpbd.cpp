@@ -26,41 +26,15 @@
 #include <string>
 #include <utility>
 
-#include "aligned.h"
+#include "chains.h"
 #include "constraints.h"
-#include "drape/error.h"
-#include "forces.h"
-#include "long_range.h"
-#include "parallel.h"
-#include "solver.h"
+#include "lanes.h"
+#include "particles.h"
+#include "xpbd.h"
 
-namespace drape {
+namespace drape::xpbd {
 
 namespace {
-
-constexpr int kDefaultIterations = 1;
-
-// The stiff sweeps (solver.stiff_sweeps) resolve the contacts before every kContactEvery-th of
-// them, starting with the first, so that the springs converge together with the contacts rather
-// than against contacts resolved only at the substep's end. Without that, cloth folding off a
-// collider keeps its structural springs compressed where it leaves the surface: drape-128 at 32
-// substeps held 1.6% there with 10 sweeps and with 150. With it the bench meets its bar on
-// drape-128 at 32 substeps + 20 sweeps, against 72 + 10 without. Every sweep, every second, third
-// or fifth gave the same fewest substeps on the bench at 64² and 128²; a contact pass costs about
-// half a stiff sweep, so every third keeps the gain for a third of the passes.
-constexpr int kContactEvery = 3;
-
-/// Positions (or any 3-vector field) as three arrays.
-template <typename T>
-struct Soa {
-  AlignedVector<T> x, y, z;
-  AlignedVector<T>& operator[](int d) { return d == 0 ? x : d == 1 ? y : z; }
-  void resize(size_t n) {
-    x.assign(n, T{});
-    y.assign(n, T{});
-    z.assign(n, T{});
-  }
-};
 
 /// Where a particle lives in the solver's arrays. Each row is padded to four blocks of equal
 /// length holding the columns c ≡ 0, 1, 2, 3 (mod 4), in order. A spring from column c to
@@ -93,121 +67,20 @@ struct Family {
   SpringKind kind = SpringKind::structural;
 };
 
-/// The line passes' arrays for one direction (rows or columns), by chain entry. Each chain has an
-/// entry before its first constraint and one after its last, never written, that end the
-/// recurrences; how the entries are laid out is the direction's (see eliminate_columns and
-/// solve_rows). T is a number (columns) or a vector of numbers, one lane a chain (rows, see
-/// Lanes).
-template <typename T>
-struct ChainScratch {
-  Soa<T> n;                         ///< the constraint's unit direction
-  AlignedVector<T> f, g, inv_beta;  ///< Thomas: e/β (see eliminate), g (then Δλ), 1/β
-  AlignedVector<T> lambda;          ///< λ accumulated over this substep's passes
-
-  void prepare(size_t entries) {
-    n.resize(entries);
-    f.assign(entries, T{});
-    g.assign(entries, T{});
-    inv_beta.assign(entries, T{} + 1);
-    lambda.assign(entries, T{});
-  }
-  int64_t bytes() const { return heap_bytes(n.x, n.y, n.z, f, g, inv_beta, lambda); }
-};
-
-/// kLanes numbers as one vector (GCC's and Clang's vector extensions: arithmetic is lane by lane
-/// and compiles to whatever SIMD the target has), and kLanes × kLanes tiles of an array moved to
-/// and from them, transposed in registers. The row solve runs its recurrences kLanes rows at a
-/// time this way: a row's numbers are contiguous along it, and the transposes turn a tile of
-/// them into one vector per column across the rows, without a strided load or store per number.
-/// A recurrence step costs its latency whatever the vector's width, so kLanes fills a register:
-/// 16 floats where the target has 512-bit vectors (AVX-512), else 8 numbers. Each lane is its own
-/// row, so the width leaves the row solve's bits as they are (the columns' twist, which the row
-/// groups place, may move a row, and their round-off with it).
-template <typename Real>
-struct Lanes {
-#ifdef __AVX512F__
-  static constexpr int kLanes = 64 / sizeof(Real);
-#else
-  static constexpr int kLanes = 8;
-#endif
-  typedef Real Vec __attribute__((vector_size(kLanes * sizeof(Real))));
-  using Tile = Vec[kLanes];
-
-  // Rows [0, nrows) and columns [0, ncols) of the tile whose row k starts at src + k·stride;
-  // the rest of the tile is `fill`. Each of the rows is read whole, so the array needs kLanes
-  // numbers of slack past the last place read. Returned transposed: tile[j] holds column j.
-  static void load(const Real* src, int stride, int nrows, int ncols, Real fill, Tile& tile) {
-    const Vec lane = iota(std::make_index_sequence<kLanes>()), filled = Vec{} + fill;
-    for (int k = 0; k < kLanes; ++k) {
-      if (k < nrows) {
-        std::memcpy(&tile[k], src + k * stride, sizeof(Vec));
-        if (ncols < kLanes) tile[k] = lane < Real(ncols) ? tile[k] : filled;
-      } else {
-        tile[k] = filled;
-      }
-    }
-    transpose(tile);
-  }
-  // The inverse of load for the tile's rows [0, nrows) and columns [0, ncols); tile is
-  // transposed in place.
-  static void store(Tile& tile, Real* dst, int stride, int nrows, int ncols) {
-    transpose(tile);
-    for (int k = 0; k < nrows; ++k) std::memcpy(dst + k * stride, &tile[k], ncols * sizeof(Real));
-  }
-
- private:
-  template <size_t... I>
-  static Vec iota(std::index_sequence<I...>) {
-    return Vec{Real(I)...};
-  }
-  // Swapping the off-diagonal k × k blocks of every 2k × 2k block exchanges bit k of the row
-  // and column indices; doing so for k = 1, 2, 4, … transposes the tile.
-  template <int k>
-  static constexpr int low(int p) {
-    return (p & k) ? kLanes + p - k : p;
-  }
-  template <int k>
-  static constexpr int high(int p) {
-    return (p & k) ? kLanes + p : p + k;
-  }
-  template <int k, size_t... I>
-  static void swap_blocks(Vec& a, Vec& b, std::index_sequence<I...>) {
-    const Vec l = __builtin_shufflevector(a, b, low<k>(I)...);
-    const Vec h = __builtin_shufflevector(a, b, high<k>(I)...);
-    a = l;
-    b = h;
-  }
-  template <int k>
-  static void swap_all(Tile& t) {
-    for (int i = 0; i < kLanes; ++i)
-      if (!(i & k)) swap_blocks<k>(t[i], t[i + k], std::make_index_sequence<kLanes>());
-  }
-  static void transpose(Tile& t) {
-    static_assert(kLanes == 8 || kLanes == 16);
-    swap_all<1>(t);
-    swap_all<2>(t);
-    swap_all<4>(t);
-    if constexpr (kLanes == 16) swap_all<8>(t);
-  }
-};
-
 template <typename Real>
 class GridXpbd final : public Solver {
   using Lane = typename Lanes<Real>::Vec;
+  using ChainRow = ChainRowOf<Real>;
 
  public:
   void prepare(const World& w, const SolverDef& def) override {
     const ClothModel& m = w.model;
-    cols_ = m.cols;
-    rows_ = m.rows;
+    cols_ = m.grid.cols;
+    rows_ = m.grid.rows;
     grid_.prepare(cols_, rows_);
     const int32_t n = m.size(), slots = grid_.size();
-    base_.resize(slots);
-    move_.resize(slots);
-    v_.resize(slots);
-    accel_.resize(slots);
     // Padding slots stay at zero: they never move. The slack is for Lanes::load.
-    inv_mass_.assign(slots + Lanes<Real>::kLanes, 0.0);
+    particles_.resize(slots, Lanes<Real>::kLanes);
     scratch_.assign(n, Vec3::Zero());
     prepare_families(m);
     stiffest_ = 0.0;
@@ -215,21 +88,17 @@ class GridXpbd final : public Solver {
     iterations_ = def.iterations > 0 ? def.iterations : kDefaultIterations;
     stiff_sweeps_ = def.stiff_sweeps;
     lambda_.assign(iterations_ > 1 ? families_.size() * static_cast<size_t>(slots) : 0, 0.0);
-    attachments_.prepare(m, w.state, w.long_range);
-    const std::vector<int32_t>& pins = attachments_.pins();
-    pin_at_.resize(pins.size());
-    attachment_limit_.assign(pins.size() * static_cast<size_t>(slots), 0.0);
-    for (size_t k = 0; k < pins.size(); ++k)
-      for (int32_t i = 0; i < n; ++i)
-        attachment_limit_[k * slots + grid_.slot(i)] =
-            static_cast<Real>(attachments_.limit(m, i, pins[k]));
+    attached_ = w.attachments.active();
+    particles_.prepare_attachments(w.attachments, n, [&](int32_t i) { return grid_.slot(i); });
     prepare_lines(w, def);
     current_ = false;
     if (def.substeps > 0) {
       substeps_ = def.substeps;
       return;
     }
-    substeps_ = automatic_substeps(w, def);
+    // Structural springs solved as chains need no substeps for their stiffness.
+    substeps_ = automatic_substeps(
+        w, def, [&](const Spring& s) { return !(lines_ && s.kind == SpringKind::structural); });
   }
 
   void state_changed() override {
@@ -253,9 +122,7 @@ class GridXpbd final : public Solver {
     const Vec3 g = w.forces.gravity;
     const double drag = w.forces.air_drag;
     const bool read = !current_;
-    for (size_t k = 0; k < pin_at_.size(); ++k)
-      for (int d = 0; d < 3; ++d)
-        split(s.x[attachments_.pins()[k]][d], pin_at_[k].base[d], pin_at_[k].move[d]);
+    particles_.read_pins(s, w.attachments);
 
 #pragma omp parallel if (worth_threads(n))
     {
@@ -263,20 +130,12 @@ class GridXpbd final : public Solver {
       // wind's acceleration is new every frame.
       if (read || wind) {
 #pragma omp for schedule(static)
-        for (int32_t i = 0; i < n; ++i) {
-          const int32_t p = grid_.slot(i);
-          const Vec3 a = wind ? Vec3(g + s.inv_mass[i] * scratch_[i]) : g;
-          for (int d = 0; d < 3; ++d) accel_[d][p] = static_cast<Real>(a[d]);
-          if (!read) continue;
-          for (int d = 0; d < 3; ++d) {
-            v_[d][p] = static_cast<Real>(s.v[i][d]);
-            split(s.x[i][d], base_[d][p], move_[d][p]);
-          }
-          inv_mass_[p] = static_cast<Real>(s.inv_mass[i]);
-        }
+        for (int32_t i = 0; i < n; ++i)
+          particles_.read(s, i, grid_.slot(i), wind ? Vec3(g + s.inv_mass[i] * scratch_[i]) : g,
+                          read);
       }
       for (int k = 0; k < substeps_; ++k) {
-        predict(h, drag);
+        particles_.predict(h, drag);
         for (int it = 0; it < iterations_; ++it) project_springs(h, it);
         if (lines_) {
           for (int pass = 0; pass < line_passes_; ++pass)
@@ -287,19 +146,12 @@ class GridXpbd final : public Solver {
             if (it % kContactEvery == 0 && !w.colliders.empty()) resolve_contacts(w.colliders);
             project_stiffest(h);
           }
-          if (attachments_.active()) apply_attachments();
+          if (attached_) apply_attachments();
         }
         finish_substep(w.colliders, h);
       }
 #pragma omp for schedule(static)
-      for (int32_t i = 0; i < n; ++i) {
-        // Pinned and held particles did not move: keeping their positions as they are keeps
-        // them exact in single precision too.
-        if (s.inv_mass[i] == 0.0) continue;
-        const int32_t p = grid_.slot(i);
-        s.x[i] = position(p);
-        s.v[i] = Vec3(v_.x[p], v_.y[p], v_.z[p]);
-      }
+      for (int32_t i = 0; i < n; ++i) particles_.write(s, i, grid_.slot(i));
     }
     update_normals(m, s);
     current_ = true;
@@ -309,11 +161,10 @@ class GridXpbd final : public Solver {
     return substeps_;
   }
   int64_t workspace_bytes() const override {
-    return heap_bytes(base_.x, base_.y, base_.z, move_.x, move_.y, move_.z, v_.x, v_.y, v_.z,
-                      accel_.x, accel_.y, accel_.z, inv_mass_, scratch_, families_, lambda_,
-                      attachments_.pins(), pin_at_, attachment_limit_, col_slot_, row_fixed_,
-                      col_fixed_, fixed_columns_, rows_n_.x, rows_n_.y, rows_n_.z, rows_b_, rows_r_,
-                      rows_dl_, twist_beta_, twist_g_, twist_fe_, twist_fg_, twist_dl_) +
+    return particles_.bytes() +
+           heap_bytes(scratch_, families_, lambda_, col_slot_, row_fixed_, col_fixed_,
+                      fixed_columns_, rows_n_.x, rows_n_.y, rows_n_.z, rows_b_, rows_r_, rows_dl_,
+                      twist_beta_, twist_g_, twist_fe_, twist_fg_, twist_dl_) +
            row_chains_.bytes() + col_chains_.bytes();
   }
 
@@ -377,7 +228,7 @@ class GridXpbd final : public Solver {
     }
     int32_t fixed = 0;
     for (int32_t i = 0; i < m.size(); ++i) fixed += w.state.inv_mass[i] == 0.0;
-    const bool held = fixed > static_cast<int32_t>(attachments_.pins().size());
+    const bool held = fixed > static_cast<int32_t>(w.attachments.pins().size());
     lines_ = line_passes_ > 0 && row_family_ >= 0 && col_family_ >= 0 && !held;
     if (!lines_) return;
     col_slot_.resize(cols_);
@@ -409,77 +260,7 @@ class GridXpbd final : public Solver {
     rows_dl_.assign(slots, 0.0);
   }
 
-  // Substeps per frame when the scene leaves it to the method.
-  int automatic_substeps(const World& w, const SolverDef& def) const {
-    double kw = 0.0;
-    for (const Spring& s : w.model.springs) {
-      if (lines_ && s.kind == SpringKind::structural) continue;  // solved as chains
-      kw = std::max(kw, s.stiffness * std::max(w.state.inv_mass[s.i], w.state.inv_mass[s.j]));
-    }
-    // With one iteration per substep a spring reaches an effective stiffness of about
-    // min(k, m/h²), so the smallest count with m/h² ≥ k for every spring: below it, stiff and
-    // soft springs (stretch and bending) look alike and the cloth acts like rubber.
-    const double needed = std::ceil(def.dt * std::sqrt(kw));
-    if (!(needed <= def.max_substeps)) {
-      throw InputError("solver.substeps",
-                       "the xpbd method needs " + count_text(needed) +
-                           " substeps per frame to reach the springs' stiffness, more than "
-                           "solver.max_substeps = " +
-                           std::to_string(def.max_substeps) +
-                           "; lower the stiffness, raise the mass, use a smaller dt, or fix "
-                           "solver.substeps yourself (softer cloth)");
-    }
-    return std::max(1, static_cast<int>(needed));
-  }
-
   // ---- The substep (all called inside one parallel region) -----------------------------------
-
-  // The position x = b + m as a base b (where the particle stands at the substep's start) and
-  // its move m since, both in Real. Splitting a double this way keeps it to about ε² relative.
-  static void split(double x, Real& b, Real& m) {
-    b = static_cast<Real>(x);
-    m = static_cast<Real>(x - static_cast<double>(b));
-  }
-  Vec3 position(int32_t p) const {
-    return Vec3(double(base_.x[p]) + double(move_.x[p]), double(base_.y[p]) + double(move_.y[p]),
-                double(base_.z[p]) + double(move_.z[p]));
-  }
-
-  // The new base is b + m rounded, and the rounding (Knuth's two-sum, exact) starts the new
-  // move, so no position is lost to round-off however small the step; then v += h·a,
-  // semi-implicit drag, m += h·v. Pinned and held particles stay put.
-  void predict(Real h, Real air_drag) {
-    const int32_t n = grid_.size();
-    Real *__restrict bx = base_.x.data(), *__restrict by = base_.y.data(),
-                     *__restrict bz = base_.z.data();
-    Real *__restrict mx = move_.x.data(), *__restrict my = move_.y.data(),
-                     *__restrict mz = move_.z.data();
-    Real* __restrict vx = v_.x.data(), * __restrict vy = v_.y.data(), * __restrict vz = v_.z.data();
-    const Real *__restrict ax = accel_.x.data(), *__restrict ay = accel_.y.data(),
-                           *__restrict az = accel_.z.data();
-    const Real* __restrict w = inv_mass_.data();
-    auto rebase = [](Real& b, Real& m) {
-      const Real sum = b + m, m_part = sum - b;
-      m = (b - (sum - m_part)) + (m - m_part);
-      b = sum;
-    };
-#pragma omp for simd schedule(static)
-    for (int32_t i = 0; i < n; ++i) {
-      rebase(bx[i], mx[i]);
-      rebase(by[i], my[i]);
-      rebase(bz[i], mz[i]);
-      // Branch-free so the loop vectorises: `free` is 1 for a free particle, 0 otherwise.
-      const Real free = w[i] > Real(0) ? Real(1) : Real(0), hf = h * free;
-      const Real ux = vx[i] + hf * ax[i], uy = vy[i] + hf * ay[i], uz = vz[i] + hf * az[i];
-      const Real f = forces::drag_factor(air_drag * w[i] * h, ux, uy, uz);
-      vx[i] = f * ux;
-      vy[i] = f * uy;
-      vz[i] = f * uz;
-      mx[i] += hf * vx[i];
-      my[i] += hf * vy[i];
-      mz[i] += hf * vz[i];
-    }
-  }
 
   // One Gauss–Seidel sweep over every fine spring, family by family and colour by colour.
   void project_springs(Real h, int iteration) {
@@ -516,7 +297,7 @@ class GridXpbd final : public Solver {
   // 0.59%. Rows then columns left 0.61% and 1.05%; rows alone failed a hanging cloth, whose
   // columns carry its weight (hang-lr-256 at 4 substeps of 3 passes and a sweep: 1.6%).
   void sweep_chains(const std::vector<Collider>& colliders, Real h) {
-    if (attachments_.active() || !colliders.empty()) {  // else a barrier for nothing
+    if (attached_ || !colliders.empty()) {  // else a barrier for nothing
 #pragma omp for schedule(static)
       for (int r = 0; r < rows_; ++r) constrain_row(colliders, r);
     }
@@ -524,13 +305,9 @@ class GridXpbd final : public Solver {
     sweep_colours(families_[row_family_], h, nullptr, true);
   }
 
-  // A family's XPBD compliance α̃ = 1/(k·h²) and damping γ = α̃·β·h²/h = c/(k·h) with β = c
-  // (N·s/m) for a substep of h (Macklin et al. 2016, eq. 26).
-  struct Compliance {
-    Real alpha_tilde, gamma;
-  };
-  static Compliance compliance(const Family& f, Real h) {
-    return {Real(1.0 / (f.stiffness * h * h)), Real(f.damping / (f.stiffness * h))};
+  // A family's compliance for a substep of h.
+  static Compliance<Real> compliance(const Family& f, Real h) {
+    return Compliance<Real>::of(f.stiffness, f.damping, h);
   }
 
   // Both colours of family f in a substep of h; with λ (several iterations) accumulated in
@@ -565,11 +342,11 @@ class GridXpbd final : public Solver {
   template <bool kLambda>
   void sweep_family(const Family& f, int colour, Real alpha_tilde, Real gamma,
                     Real* __restrict lambda, bool first) {
-    const Real *__restrict bx = base_.x.data(), *__restrict by = base_.y.data(),
-                           *__restrict bz = base_.z.data();
-    Real *__restrict mx = move_.x.data(), *__restrict my = move_.y.data(),
-                     *__restrict mz = move_.z.data();
-    const Real* __restrict w = inv_mass_.data();
+    const Real *__restrict bx = particles_.base.x.data(), *__restrict by = particles_.base.y.data(),
+                           *__restrict bz = particles_.base.z.data();
+    Real *__restrict mx = particles_.move.x.data(), *__restrict my = particles_.move.y.data(),
+                     *__restrict mz = particles_.move.z.data();
+    const Real* __restrict w = particles_.inv_mass.data();
     const Real rest = f.rest;
     // λ is kept only when several iterations need it; with one it is 0 at the start.
     auto one = [&](int i, int j) {
@@ -678,79 +455,8 @@ class GridXpbd final : public Solver {
 
   // The attachments and contacts of row r, as each pass starts.
   void constrain_row(const std::vector<Collider>& colliders, int r) {
-    if (attachments_.active()) attachments_row(r);
+    if (attached_) attachments_row(r);
     contacts_row(colliders, r);
-  }
-
-  // What a chain's constraint contributes to its system, from its two ends i and j: the unit
-  // direction n, the diagonal b and the right-hand side r without the α̃λ term. `live` false
-  // (both ends fixed, or a chain swept spring by spring) leaves r = 0: no change.
-  template <typename T>
-  struct ChainRowOf {
-    T nx, ny, nz, b, r;
-  };
-  using ChainRow = ChainRowOf<Real>;
-  static ChainRow chain_row(const Real* __restrict bx, const Real* __restrict by,
-                            const Real* __restrict bz, const Real* __restrict mx,
-                            const Real* __restrict my, const Real* __restrict mz,
-                            const Real* __restrict w, int i, int j, bool live, Real rest,
-                            Real alpha_tilde, Real gamma) {
-    const Real rx = mx[j] - mx[i], ry = my[j] - my[i], rz = mz[j] - mz[i];
-    const Real dx = (bx[j] - bx[i]) + rx, dy = (by[j] - by[i]) + ry, dz = (bz[j] - bz[i]) + rz;
-    const Real len = std::sqrt(dx * dx + dy * dy + dz * dz);
-    const Real inv = len > 0 ? 1 / len : Real(0);  // coincident ends: no direction
-    const Real ux = dx * inv, uy = dy * inv, uz = dz * inv;
-    live = live && w[i] + w[j] > 0;
-    return {ux, uy, uz, (1 + gamma) * (w[i] + w[j]) + alpha_tilde,
-            live ? -(len - rest) - gamma * (ux * rx + uy * ry + uz * rz) : Real(0)};
-  }
-
-  // The coupling of constraint c to the constraint of entry p eliminated before it, wi being
-  // the inverse mass of the particle the two share: the off-diagonal entry e and f = e/β_p.
-  // T: Real or a Lanes vector.
-  template <typename T>
-  struct Pivot {
-    T e, f;
-  };
-  template <typename T>
-  static Pivot<T> pivot(const ChainRowOf<T>& c, T wi, Real gamma, const T* __restrict nx,
-                        const T* __restrict ny, const T* __restrict nz,
-                        const T* __restrict inv_beta, int p) {
-    const T e = -(1 + gamma) * wi * (nx[p] * c.nx + ny[p] * c.ny + nz[p] * c.nz);
-    return {e, e * inv_beta[p]};
-  }
-
-  // One step of the elimination for constraint entry q after entry p (the previous constraint
-  // of the chain, or the zero entry before the first): f = e/β_p, β = b − f·e, g = r − f·g_p,
-  // f kept at entry qf (q, or p when the substitution runs the other way). One division a step:
-  // the recurrence's latency, not its arithmetic, is what bounds it.
-  template <typename T>
-  static void eliminate(const ChainRowOf<T>& c, T wi, Real gamma, T alpha_lambda, T* __restrict nx,
-                        T* __restrict ny, T* __restrict nz, T* __restrict fe, T* __restrict g,
-                        T* __restrict inv_beta, int p, int q, int qf) {
-    const auto [e, f] = pivot(c, wi, gamma, nx, ny, nz, inv_beta, p);
-    nx[q] = c.nx;
-    ny[q] = c.ny;
-    nz[q] = c.nz;
-    fe[qf] = f;
-    inv_beta[q] = Real(1) / (c.b - f * e);
-    g[q] = c.r - alpha_lambda - f * g[p];
-  }
-
-  // Entry q's Δλ into g, and ω·Δλ onto λ (the pass's relaxation, which scales the moves alike).
-  template <typename T>
-  static T take(T* __restrict g, T* __restrict lambda, Real keep, Real omega, int q, T dl) {
-    g[q] = dl;
-    lambda[q] = keep * lambda[q] + omega * dl;
-    return dl;
-  }
-
-  // The back substitution for entry q, from the next constraint's f and Δλ (zero after the
-  // last): Δλ = g/β − f_next·Δλ_next, taken.
-  template <typename T>
-  static T substitute(T* __restrict g, const T* __restrict inv_beta, T* __restrict lambda,
-                      Real keep, Real omega, int q, T f_next, T dl_next) {
-    return take(g, lambda, keep, omega, q, g[q] * inv_beta[q] - f_next * dl_next);
   }
 
   // The columns are solved from both ends at once (a twisted factorisation, as in the "burn at
@@ -778,10 +484,10 @@ class GridXpbd final : public Solver {
   void eliminate_columns(const Family& f, Real h, int half, int l0, int l1, bool first) {
     const int stride = grid_.stride, k = twist_;
     const unsigned char* __restrict fixed = col_fixed_.data();
-    const Real *__restrict bx = base_.x.data(), *__restrict by = base_.y.data(),
-                           *__restrict bz = base_.z.data();
-    const Real *__restrict mx = move_.x.data(), *__restrict my = move_.y.data(),
-                           *__restrict mz = move_.z.data();
+    const Real *__restrict bx = particles_.base.x.data(), *__restrict by = particles_.base.y.data(),
+                           *__restrict bz = particles_.base.z.data();
+    const Real *__restrict mx = particles_.move.x.data(), *__restrict my = particles_.move.y.data(),
+                           *__restrict mz = particles_.move.z.data();
     ChainScratch<Real>& cs = col_chains_;
     Real *__restrict nx = cs.n.x.data(), *__restrict ny = cs.n.y.data(),
                      *__restrict nz = cs.n.z.data();
@@ -791,7 +497,7 @@ class GridXpbd final : public Solver {
     Real *__restrict twist_beta = twist_beta_.data(), *__restrict twist_g = twist_g_.data(),
                      *__restrict twist_fe = twist_fe_.data(),
                      *__restrict twist_fg = twist_fg_.data();
-    const Real* __restrict w = inv_mass_.data();
+    const Real* __restrict w = particles_.inv_mass.data();
     const auto [alpha_tilde, gamma] = compliance(f, h);
     const Real rest = f.rest, keep = first ? Real(0) : Real(1);
     if (half == 0) {
@@ -844,8 +550,8 @@ class GridXpbd final : public Solver {
   // The twist's Δλ, then the substitution outwards of half `half` and its particles' moves.
   void substitute_columns(int half, int l0, int l1, bool first, Real omega) {
     const int stride = grid_.stride, k = twist_, last = rows_ - 1;
-    Real *__restrict mx = move_.x.data(), *__restrict my = move_.y.data(),
-                     *__restrict mz = move_.z.data();
+    Real *__restrict mx = particles_.move.x.data(), *__restrict my = particles_.move.y.data(),
+                     *__restrict mz = particles_.move.z.data();
     ChainScratch<Real>& cs = col_chains_;
     const Real *__restrict nx = cs.n.x.data(), *__restrict ny = cs.n.y.data(),
                            *__restrict nz = cs.n.z.data();
@@ -855,7 +561,7 @@ class GridXpbd final : public Solver {
                            *__restrict twist_fe = twist_fe_.data(),
                            *__restrict twist_fg = twist_fg_.data();
     Real* __restrict twist_dl = twist_dl_.data();
-    const Real* __restrict w = inv_mass_.data();
+    const Real* __restrict w = particles_.inv_mass.data();
     const Real keep = first ? Real(0) : Real(1);
     auto move = [&](int i, Real ax, Real ay, Real az) {
       mx[i] += w[i] * ax;
@@ -923,10 +629,10 @@ class GridXpbd final : public Solver {
     const int r0 = group_row(g0), r1 = group_row(g1), stride = grid_.stride;
     const int block = grid_.block, entries = cols_ + 1;
     const unsigned char* __restrict fixed = row_fixed_.data();
-    const Real *__restrict bx = base_.x.data(), *__restrict by = base_.y.data(),
-                           *__restrict bz = base_.z.data();
-    Real *__restrict mx = move_.x.data(), *__restrict my = move_.y.data(),
-                     *__restrict mz = move_.z.data();
+    const Real *__restrict bx = particles_.base.x.data(), *__restrict by = particles_.base.y.data(),
+                           *__restrict bz = particles_.base.z.data();
+    Real *__restrict mx = particles_.move.x.data(), *__restrict my = particles_.move.y.data(),
+                     *__restrict mz = particles_.move.z.data();
     Real *__restrict sx = rows_n_.x.data(), *__restrict sy = rows_n_.y.data(),
                      *__restrict sz = rows_n_.z.data(), *__restrict sb = rows_b_.data(),
                      *__restrict sr = rows_r_.data(), *__restrict sdl = rows_dl_.data();
@@ -936,7 +642,7 @@ class GridXpbd final : public Solver {
     Lane *__restrict fe = cs.f.data(), *__restrict g = cs.g.data(),
                      *__restrict inv_beta = cs.inv_beta.data();
     Lane* __restrict lambda = cs.lambda.data();
-    const Real* __restrict w = inv_mass_.data();
+    const Real* __restrict w = particles_.inv_mass.data();
     const auto [alpha_tilde, gamma] = compliance(f, h);
     const Real rest = f.rest, keep = first ? Real(0) : Real(1);
     // Each constraint's direction, diagonal and right-hand side, by its first particle's slot.
@@ -1060,105 +766,37 @@ class GridXpbd final : public Solver {
 
   // One constraint of a chain through a fixed particle, from λ = 0.
   void project_fixed_chain(const Family& f, Real alpha_tilde, Real gamma, int i, int j) {
-    xpbd_project<false, true>(base_.x.data(), base_.y.data(), base_.z.data(), move_.x.data(),
-                              move_.y.data(), move_.z.data(), inv_mass_.data(), i, j, Real(f.rest),
+    xpbd_project<false, true>(particles_.base.x.data(), particles_.base.y.data(), particles_.base.z.data(), particles_.move.x.data(),
+                              particles_.move.y.data(), particles_.move.z.data(), particles_.inv_mass.data(), i, j, Real(f.rest),
                               alpha_tilde, gamma, Real(0));
   }
 
-  // Long-range attachments on every free particle, pin after pin: project_attachment's rule
-  // (long_range.h) written branch-free on the solver's arrays so it vectorises, with the limits
-  // tabulated at set-up.
+  // Long-range attachments on every free particle, row by row.
   void apply_attachments() {
 #pragma omp for schedule(static)
     for (int r = 0; r < rows_; ++r) attachments_row(r);
   }
-
-  // The attachments of row r.
   void attachments_row(int r) {
-    const int32_t i0 = r * grid_.stride;
-    const Real *__restrict bx = base_.x.data() + i0, *__restrict by = base_.y.data() + i0,
-                           *__restrict bz = base_.z.data() + i0;
-    Real *__restrict mx = move_.x.data() + i0, *__restrict my = move_.y.data() + i0,
-                     *__restrict mz = move_.z.data() + i0;
-    const Real* __restrict w = inv_mass_.data() + i0;
-    for (size_t k = 0; k < pin_at_.size(); ++k) {
-      const PinAt& a = pin_at_[k];
-      const Real* __restrict limit = attachment_limit_.data() + k * grid_.size() + i0;
-#pragma omp simd
-      for (int c = 0; c < grid_.stride; ++c) {
-        // x − x_pin, and x_pin + scale·(x − x_pin) written as a change of the move.
-        const Real dx = (bx[c] - a.base[0]) + (mx[c] - a.move[0]),
-                   dy = (by[c] - a.base[1]) + (my[c] - a.move[1]),
-                   dz = (bz[c] - a.base[2]) + (mz[c] - a.move[2]);
-        const Real len = std::sqrt(dx * dx + dy * dy + dz * dz);
-        const bool pull = w[c] > 0 && len > limit[c];
-        const Real shrink = pull ? limit[c] / len - 1 : Real(0);
-        mx[c] += shrink * dx;
-        my[c] += shrink * dy;
-        mz[c] += shrink * dz;
-      }
-    }
+    particles_.attachments(r * grid_.stride, (r + 1) * grid_.stride);
   }
 
-  // Contacts (PositionContact in collider.h, x_prev being the base) for every free particle.
+  // Contacts for every free particle, row by row.
   void resolve_contacts(const std::vector<Collider>& colliders) {
 #pragma omp for schedule(static)
     for (int r = 0; r < rows_; ++r) contacts_row(colliders, r);
   }
+  // The contacts of row r. A run of Particles::contacts holds every fourth column of a stretch
+  // of the row (the residue blocks), so it is mostly rows away from a collider that are skipped.
+  void contacts_row(const std::vector<Collider>& colliders, int r) {
+    particles_.contacts(colliders, r * grid_.stride, (r + 1) * grid_.stride);
+  }
 
   // Contacts, then v = move/h.
   void finish_substep(const std::vector<Collider>& colliders, Real h) {
-    const Real inv_h = 1 / h;
 #pragma omp for schedule(static)
     for (int r = 0; r < rows_; ++r) {
       contacts_row(colliders, r);
-      const int i0 = r * grid_.stride;
-      const Real *__restrict mx = move_.x.data() + i0, *__restrict my = move_.y.data() + i0,
-                             *__restrict mz = move_.z.data() + i0;
-      Real *__restrict vx = v_.x.data() + i0, *__restrict vy = v_.y.data() + i0,
-                       *__restrict vz = v_.z.data() + i0;
-#pragma omp simd
-      for (int c = 0; c < grid_.stride; ++c) {
-        vx[c] = mx[c] * inv_h;
-        vy[c] = my[c] * inv_h;
-        vz[c] = mz[c] * inv_h;
-      }
-    }
-  }
-
-  // The contacts of row r, collider after collider; branch-free over the row so it vectorises,
-  // in runs of kContactRun slots, each skipped after a cheaper test (no square root) where none
-  // of it can touch. A skipped particle is one that apply() would leave as it is: the same
-  // result. A run holds every fourth column of a stretch of the row (the residue blocks), so it
-  // is mostly rows away from a collider that are skipped; on drape-128 that took about 0.2 ms
-  // off a one-thread frame of 6 ms. Shorter runs, across the four blocks, were slower: their
-  // loops are too short to vectorise without scalar remainders.
-  static constexpr int kContactRun = 16;
-  void contacts_row(const std::vector<Collider>& colliders, int r) {
-    const int i0 = r * grid_.stride;
-    const Real* __restrict w = inv_mass_.data() + i0;
-    const Real *__restrict bx = base_.x.data() + i0, *__restrict by = base_.y.data() + i0,
-                           *__restrict bz = base_.z.data() + i0;
-    Real *__restrict mx = move_.x.data() + i0, *__restrict my = move_.y.data() + i0,
-                     *__restrict mz = move_.z.data() + i0;
-    for (const Collider& col : colliders) {
-      const PositionContact<Real> contact(col);
-      const Real cx = static_cast<Real>(col.center.x()), cy = static_cast<Real>(col.center.y()),
-                 cz = static_cast<Real>(col.center.z());
-      for (int c0 = 0; c0 < grid_.stride; c0 += kContactRun) {
-        const int c1 = std::min(grid_.stride, c0 + kContactRun);
-        Real clearance = std::numeric_limits<Real>::max();
-#pragma omp simd reduction(min : clearance)
-        for (int c = c0; c < c1; ++c)
-          clearance = std::min(
-              clearance,
-              contact.clearance((bx[c] - cx) + mx[c], (by[c] - cy) + my[c], (bz[c] - cz) + mz[c]));
-        if (clearance > 0) continue;
-#pragma omp simd
-        for (int c = c0; c < c1; ++c)
-          contact.apply(w[c] > Real(0), (bx[c] - cx) + mx[c], (by[c] - cy) + my[c],
-                        (bz[c] - cz) + mz[c], mx[c], my[c], mz[c]);
-      }
+      particles_.velocities(h, r * grid_.stride, (r + 1) * grid_.stride);
     }
   }
 
@@ -1174,18 +812,11 @@ class GridXpbd final : public Solver {
   int iterations_ = kDefaultIterations;
   int stiff_sweeps_ = 0;
   double stiffest_ = 0.0;  ///< N/m, the stiffest family's stiffness (what stiff sweeps redo)
-  Soa<Real> base_, move_, v_, accel_;  ///< x = base + move (see split); per slot
-  AlignedVector<Real> inv_mass_;       ///< per slot; zero for pins, held particles and padding
-  std::vector<Vec3> scratch_;          ///< wind forces, AoS as forces.h writes them
+  Particles<Real> particles_;
+  std::vector<Vec3> scratch_;  ///< wind forces, AoS as forces.h writes them
   std::vector<Family> families_;
   AlignedVector<Real> lambda_;  ///< per family and first slot; only with iterations > 1
-  LongRange attachments_;
-  // A pin's position split as the frame's start split it (pins do not move).
-  struct PinAt {
-    Real base[3], move[3];
-  };
-  std::vector<PinAt> pin_at_;
-  AlignedVector<Real> attachment_limit_;  ///< per pin, per slot, m
+  bool attached_ = false;  ///< long-range attachments are on
   // Line passes (solver.line_passes).
   int line_passes_ = 0;  ///< as asked
   Real relaxation_ = 1;  ///< ω of every pass but the last (solver.line_relaxation)
@@ -1206,9 +837,13 @@ class GridXpbd final : public Solver {
 
 }  // namespace
 
-std::unique_ptr<Solver> make_xpbd(Precision precision) {
-  if (precision == Precision::f32) return std::make_unique<GridXpbd<float>>();
-  return std::make_unique<GridXpbd<double>>();
+}  // namespace drape::xpbd
+
+namespace drape {
+
+std::unique_ptr<Solver> make_grid_xpbd(Precision precision) {
+  if (precision == Precision::f32) return std::make_unique<xpbd::GridXpbd<float>>();
+  return std::make_unique<xpbd::GridXpbd<double>>();
 }
 
 }  // namespace drape

@@ -39,7 +39,6 @@ class Implicit final : public Solver {
     block_.assign(w.model.springs.size(), Mat3::Zero());
     diag_.assign(n, Mat3::Zero());
     precond_.assign(n, Mat3::Zero());
-    attachments_.prepare(w.model, w.state, w.long_range);
     substeps_ = def.substeps > 0 ? def.substeps : 1;
     tolerance_ = def.cg_tolerance;
     max_iterations_ = def.cg_max_iterations;
@@ -60,7 +59,7 @@ class Implicit final : public Solver {
         if (contact_dvn_[i] > 0.0)
           apply_friction(contact_n_[i], contact_dvn_[i], contact_mu_[i], s.v[i]);
       }
-      drag_drift_constrain(w, attachments_, h);
+      drag_drift_constrain(w, h);
     }
     update_normals(w.model, s);
   }
@@ -70,7 +69,7 @@ class Implicit final : public Solver {
   }
   int64_t workspace_bytes() const override {
     return heap_bytes(rhs_, force_, dv_, r_, s_, c_, q_, contact_n_, contact_dvn_, contact_mu_,
-                      block_, diag_, precond_, attachments_.pins());
+                      block_, diag_, precond_);
   }
 
  private:
@@ -100,7 +99,7 @@ class Implicit final : public Solver {
     const double h2 = h * h;
     for (int c = 0; c < m.colours(); ++c) {
       const int32_t begin = m.colour_begin[c], end = m.colour_begin[c + 1];
-#pragma omp parallel for schedule(static) if (worth_threads(end - begin))
+#pragma omp parallel for schedule(static) if (colour_in_parallel(m, c))
       for (int32_t k = begin; k < end; ++k) {
         const Spring& sp = m.springs[k];
         const Vec3 &xi = s.x[sp.i], &xj = s.x[sp.j];
@@ -154,10 +153,11 @@ class Implicit final : public Solver {
         const double gap = signed_distance(col, s.x[i], n_out) - col.thickness;
         consider(n_out, gap, col.friction);
       }
-      for (const int32_t a : attachments_.pins()) {
-        const Vec3 d = s.x[a] - s.x[i];
+      const LongRange& tethers = w.attachments;
+      for (int k = 0; k < tethers.tethers() && tethers.pin(i, k) >= 0; ++k) {
+        const Vec3 d = s.x[tethers.pin(i, k)] - s.x[i];
         const double len = d.norm();
-        if (len > 0.0) consider(d / len, attachments_.limit(m, i, a) - len, 0.0);
+        if (len > 0.0) consider(d / len, tethers.limit(i, k) - len, 0.0);
       }
       if (count == 0) continue;
       // Filter S = I − e₁e₁ᵀ − e₂e₂ᵀ over an orthonormal basis of the constrained normals, and
@@ -187,7 +187,7 @@ class Implicit final : public Solver {
     for (int32_t i = 0; i < n; ++i) q[i] = m.mass[i] * p[i];
     for (int c = 0; c < m.colours(); ++c) {
       const int32_t begin = m.colour_begin[c], end = m.colour_begin[c + 1];
-#pragma omp parallel for schedule(static) if (worth_threads(end - begin))
+#pragma omp parallel for schedule(static) if (colour_in_parallel(m, c))
       for (int32_t k = begin; k < end; ++k) {
         const Spring& sp = m.springs[k];
         const Vec3 y = block_[k] * (p[sp.i] - p[sp.j]);
@@ -242,7 +242,6 @@ class Implicit final : public Solver {
   std::vector<Mat3> block_;          // per spring: h²K + h·C
   std::vector<Mat3> diag_;           // per particle: the system matrix's diagonal block
   std::vector<Mat3> precond_;        // its inverse, zero on constrained particles
-  LongRange attachments_;
 };
 
 }  // namespace

@@ -7,7 +7,6 @@
 
 #include "drape/error.h"
 #include "forces.h"
-#include "long_range.h"
 #include "solver.h"
 #include "parallel.h"
 
@@ -33,7 +32,6 @@ class Symplectic final : public Solver {
  public:
   void prepare(const World& w, const SolverDef& def) override {
     force_.assign(w.model.size(), Vec3::Zero());
-    attachments_.prepare(w.model, w.state, w.long_range);
     if (def.substeps > 0) {
       substeps_ = def.substeps;
       return;
@@ -69,7 +67,7 @@ class Symplectic final : public Solver {
 #pragma omp parallel for schedule(static) if (worth_threads(n))
       for (int32_t i = 0; i < n; ++i) s.v[i] += (h * s.inv_mass[i]) * force_[i];
       // 3. Drag, drift, long-range attachments, contacts.
-      drag_drift_constrain(w, attachments_, h);
+      drag_drift_constrain(w, h);
     }
     update_normals(w.model, s);
   }
@@ -77,13 +75,12 @@ class Symplectic final : public Solver {
   int substeps() const override { return substeps_; }
   bool stretch_is_energy() const override { return true; }
   int64_t workspace_bytes() const override {
-    return heap_bytes(force_, attachments_.pins());
+    return heap_bytes(force_);
   }
 
  private:
   int substeps_ = 1;
   std::vector<Vec3> force_;
-  LongRange attachments_;
 };
 
 }  // namespace

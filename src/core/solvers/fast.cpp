@@ -63,7 +63,6 @@ class Fast final : public Solver {
                       ? def.iterations
                       : std::clamp(static_cast<int>(std::ceil(2.0 / std::sqrt(1.0 - rho_ * rho_))),
                                    kDefaultIterations, 200);
-    attachments_.prepare(m, w.state, w.long_range);
 
     // Free particles are the unknowns.
     free_.assign(n, -1);
@@ -95,7 +94,7 @@ class Fast final : public Solver {
     double k_max = 0.0;
     for (const Spring& s : m.springs) k_max = std::max(k_max, s.stiffness);
     contact_weight_ =
-        w.colliders.empty() && !attachments_.active() ? 0.0 : kContactWeight * h_ * h_ * k_max;
+        w.colliders.empty() && !w.attachments.active() ? 0.0 : kContactWeight * h_ * h_ * k_max;
     A_.resize(free, free);
     A_.setFromTriplets(t.begin(), t.end());
     diagonal_ = A_.diagonal();
@@ -126,7 +125,7 @@ class Fast final : public Solver {
       const double h2 = h_ * h_;
       double omega = 1.0;
       for (int it = 0; it < iterations_; ++it) {
-        local_and_rhs(m, w.colliders, h2);
+        local_and_rhs(m, w.colliders, w.attachments, h2);
         global_solve();
         omega = chebyshev_weight(it, omega);
         // x_{k+1} = ω(x̂ − x_{k−1}) + x_{k−1} (Wang 2015, eq. 12 with γ = 1); ω = 1: x̂.
@@ -150,7 +149,7 @@ class Fast final : public Solver {
         if (contact_dvn_[i] > 0.0)
           apply_friction(contact_n_[i], contact_dvn_[i], contact_mu_[i], s.v[i]);
       }
-      attachments_.apply(m, s, true);
+      w.attachments.apply(s, true);
       resolve_contacts(w.colliders, s);
     }
     update_normals(m, s);
@@ -168,7 +167,7 @@ class Fast final : public Solver {
     const int64_t matrix_bytes = sparse_bytes(A_) + diagonal_.size() * int64_t{sizeof(double)};
     return factor_bytes + matrix_bytes + X_.size() * int64_t{sizeof(double)} +
            heap_bytes(held_, held_now_, free_, perm_, x0_, y_, xk_, xkm1_, b0_, rhs_, force_,
-                      contact_n_, contact_dvn_, contact_mu_, attachments_.pins());
+                      contact_n_, contact_dvn_, contact_mu_);
   }
 
  private:
@@ -198,7 +197,7 @@ class Fast final : public Solver {
         // The contact term holds particles whose target lies inside a collider or beyond an
         // attachment's limit, or within this step's travel of either.
         const double reach = h_ * s.v[i].norm();
-        held_now_[i] = attachments_.within_reach(m, s.x, i, y_[i], reach);
+        held_now_[i] = w.attachments.within_reach(s.x, i, y_[i], reach);
         for (const Collider& col : w.colliders) {
           Vec3 nrm;
           held_now_[i] |= signed_distance(col, y_[i], nrm) - col.thickness < reach;
@@ -223,7 +222,7 @@ class Fast final : public Solver {
     const double h = h_, h2 = h_ * h_;
     for (int c = 0; c < m.colours(); ++c) {
       const int32_t begin = m.colour_begin[c], end = m.colour_begin[c + 1];
-#pragma omp parallel for schedule(static) if (worth_threads(end - begin))
+#pragma omp parallel for schedule(static) if (colour_in_parallel(m, c))
       for (int32_t k = begin; k < end; ++k) {
         const Spring& sp = m.springs[k];
         const Vec3 damp = (h * sp.damping) * (x0_[sp.i] - x0_[sp.j]);
@@ -238,7 +237,8 @@ class Fast final : public Solver {
 
   // 2. Local step (the best spring directions for x_k) scattered into the right-hand side
   // b₀ + h²·J·d, then gathered into the permuted unknowns.
-  void local_and_rhs(const ClothModel& m, const std::vector<Collider>& colliders, double h2) {
+  void local_and_rhs(const ClothModel& m, const std::vector<Collider>& colliders,
+                     const LongRange& attachments, double h2) {
     const int32_t n = m.size();
     // Contact term w·|x − p|² on the particles that carry it (see prepare): p is x_k moved
     // inside the attachments' limits and out of the colliders.
@@ -247,13 +247,13 @@ class Fast final : public Solver {
       rhs_[i] = b0_[i];
       if (!held_[i]) continue;
       Vec3 p = xk_[i], nrm;
-      attachments_.project(m, xk_, i, p);
+      attachments.project(xk_, i, p);
       for (const Collider& col : colliders) project_out(col, p, nrm);
       rhs_[i] += contact_weight_ * p;
     }
     for (int c = 0; c < m.colours(); ++c) {
       const int32_t begin = m.colour_begin[c], end = m.colour_begin[c + 1];
-#pragma omp parallel for schedule(static) if (worth_threads(end - begin))
+#pragma omp parallel for schedule(static) if (colour_in_parallel(m, c))
       for (int32_t k = begin; k < end; ++k) {
         const Spring& sp = m.springs[k];
         const Vec3 e = xk_[sp.j] - xk_[sp.i];
@@ -351,7 +351,6 @@ class Fast final : public Solver {
   std::vector<Vec3> contact_n_;      // outward normal of the particle's contact
   std::vector<double> contact_dvn_;  // its normal velocity change (m/s), 0 = no contact
   std::vector<double> contact_mu_;   // its friction coefficient
-  LongRange attachments_;
 };
 
 }  // namespace

@@ -8,11 +8,12 @@
 
 namespace drape {
 
-std::unique_ptr<Solver> make_solver(const SolverDef& def) {
+std::unique_ptr<Solver> make_solver(const SolverDef& def, const ClothModel& model) {
   switch (def.method) {
     case Method::symplectic: return make_symplectic();
     case Method::implicit: return make_implicit();
-    case Method::xpbd: return make_xpbd(def.precision);
+    case Method::xpbd:
+      return model.grid.present() ? make_grid_xpbd(def.precision) : make_mesh_xpbd(def.precision);
     case Method::fast: return make_fast();
   }
   return nullptr;
@@ -24,13 +25,13 @@ std::string count_text(double count) {
   return text;
 }
 
-void drag_drift_constrain(World& w, const LongRange& attachments, double h) {
+void drag_drift_constrain(World& w, double h) {
   ClothState& s = w.state;
   const int32_t n = w.model.size();
   forces::apply_drag(w.forces.air_drag, s.inv_mass, h, s.v);
 #pragma omp parallel for schedule(static) if (worth_threads(n))
   for (int32_t i = 0; i < n; ++i) s.x[i] += h * s.v[i];
-  attachments.apply(w.model, s, true);
+  w.attachments.apply(s, true);
   resolve_contacts(w.colliders, s);
 }
 

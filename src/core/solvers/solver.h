@@ -12,14 +12,16 @@
 
 namespace drape {
 
+class LongRange;
+
 /// Everything a solver reads and writes during a frame.
 struct World {
   const ClothModel& model;
   ClothState& state;
   const ForcesDef& forces;
   const std::vector<Collider>& colliders;
-  double time = 0.0;          ///< s, at the start of the frame
-  LongRangeDef long_range{};  ///< long-range attachments to apply (cloth.long_range)
+  double time;                  ///< s, at the start of the frame
+  const LongRange& attachments;  ///< long-range attachments to apply (cloth.long_range)
 };
 
 class Solver {
@@ -46,20 +48,22 @@ class Solver {
   virtual bool stretch_is_energy() const { return false; }
 };
 
-std::unique_ptr<Solver> make_solver(const SolverDef& def);
+/// The method def.method names, for this model (xpbd has a path of its own for grids).
+std::unique_ptr<Solver> make_solver(const SolverDef& def, const ClothModel& model);
 
 /// A whole count held in a double (a substep count a set-up would need, possibly huge or
 /// infinite), written for a message: "10700", "inf".
 std::string count_text(double count);
 
-class LongRange;
 /// The end of a velocity-level substep shared by `symplectic` and `implicit`: drag
 /// (semi-implicit, stable at any h), the drift x += h·v, long-range attachments, then contacts
 /// (last, so nothing stays inside a collider). Pinned and held particles (1/m = 0) stay put.
-void drag_drift_constrain(World& world, const LongRange& attachments, double h);
+void drag_drift_constrain(World& world, double h);
 std::unique_ptr<Solver> make_symplectic();
 std::unique_ptr<Solver> make_implicit();
-std::unique_ptr<Solver> make_xpbd(Precision precision);
+/// xpbd on the grid's own layout (its row and column fast paths), or on any mesh.
+std::unique_ptr<Solver> make_grid_xpbd(Precision precision);
+std::unique_ptr<Solver> make_mesh_xpbd(Precision precision);
 std::unique_ptr<Solver> make_fast();
 
 /// The largest explicit step h with h²ω² + 2hγ < 4, where ω² = max_i Σ_s 2k_s/m_i and

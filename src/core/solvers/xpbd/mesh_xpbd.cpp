@@ -1,0 +1,479 @@
+// `xpbd` on any mesh (Macklin, Müller & Chentanez 2016, "XPBD"; Macklin et al. 2019, "Small
+// steps in physics simulation"): the grid solver's pipeline without the grid. Per substep:
+// predict, project the springs as compliant distance constraints by Gauss–Seidel colour by
+// colour (the model's colours: a colour's springs share no particle, so a team of threads sweeps
+// it at once, and the springs no colour could take, around a vertex of very high valence, are
+// swept by one thread), stiff sweeps, attachments, contacts, v = (x − x_prev)/h.
+//
+// With solver.line_passes the structural springs are solved as chains, exactly, as the grid's
+// rows and columns are: a path cover of the mesh's edges (chain_cover.h) gives a few layers of
+// chains that share no particle within a layer; each pass solves every chain of each layer at
+// once, kLanes chains side by side in the lanes of a vector (their recurrences run across
+// chains, as the grid's rows do), and sweeps the structural springs the cover left over.
+//
+// Particles keep the cloth's own order (slot p is particle p), plus one slot that never moves
+// for the lanes of chains shorter than their group's longest.
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <map>
+
+#include "chain_cover.h"
+#include "chains.h"
+#include "constraints.h"
+#include "lanes.h"
+#include "particles.h"
+#include "xpbd.h"
+
+namespace drape::xpbd {
+
+namespace {
+
+// Slots a thread takes at a time in the stages over particles: a multiple of the contacts'
+// runs, and enough to be worth a share.
+constexpr int32_t kBlock = 256;
+
+// The shortest chain worth an exact solve: shorter ones are swept with the left-over springs.
+constexpr int kMinChain = 3;
+// Layers of chains at most: a triangle mesh's edges at a vertex of valence six pair into three
+// straight lines (a grid's rows, columns and diagonals); a fourth takes what bends.
+constexpr int kMaxLayers = 4;
+
+/// Springs to sweep spring by spring, in the model's colours: a colour's springs share no
+/// particle, except in a colour the model could not make independent, swept by one thread.
+template <typename Real>
+struct SweepSet {
+  AlignedVector<int32_t> i, j;
+  AlignedVector<Real> rest, inv_k, c_over_k;  ///< L, 1/k, c/k per spring
+  std::vector<int32_t> begin;                 ///< colour c: [begin[c], begin[c + 1])
+  std::vector<uint8_t> independent;           ///< per colour
+  AlignedVector<Real> lambda;                 ///< per spring, with several iterations
+
+  /// The model's springs for which keep(s) holds, with stiffness > 0 (a spring of zero
+  /// stiffness has infinite compliance: no constraint).
+  template <class Keep>
+  void build(const ClothModel& m, Keep keep) {
+    i.clear(), j.clear(), rest.clear(), inv_k.clear(), c_over_k.clear();
+    begin.assign(1, 0);
+    independent.clear();
+    for (int c = 0; c < m.colours(); ++c) {
+      for (int32_t k = m.colour_begin[c]; k < m.colour_begin[c + 1]; ++k) {
+        const Spring& s = m.springs[k];
+        if (!(s.stiffness > 0.0) || !keep(s, k)) continue;
+        i.push_back(s.i);
+        j.push_back(s.j);
+        rest.push_back(static_cast<Real>(s.rest));
+        inv_k.push_back(static_cast<Real>(1.0 / s.stiffness));
+        c_over_k.push_back(static_cast<Real>(s.damping / s.stiffness));
+      }
+      if (static_cast<int32_t>(i.size()) == begin.back()) continue;
+      begin.push_back(static_cast<int32_t>(i.size()));
+      independent.push_back(m.colour_is_independent(c));
+    }
+  }
+  bool empty() const { return i.empty(); }
+  int64_t bytes() const { return heap_bytes(i, j, rest, inv_k, c_over_k, begin, independent, lambda); }
+
+  /// One Gauss–Seidel sweep in a substep of h, colour by colour, shared out to the team; with
+  /// `kLambda` the multipliers accumulate in `lambda` (from zero when `first`).
+  template <bool kLambda>
+  void sweep(Particles<Real>& p, Real h, bool first) {
+    const Real *__restrict bx = p.base.x.data(), *__restrict by = p.base.y.data(),
+                           *__restrict bz = p.base.z.data();
+    Real *__restrict mx = p.move.x.data(), *__restrict my = p.move.y.data(),
+                     *__restrict mz = p.move.z.data();
+    const Real* __restrict w = p.inv_mass.data();
+    const int32_t *__restrict si = i.data(), *__restrict sj = j.data();
+    const Real *__restrict sr = rest.data(), *__restrict sk = inv_k.data(),
+                           *__restrict sc = c_over_k.data();
+    Real* __restrict sl = lambda.data();
+    const Real inv_h2 = 1 / (h * h), inv_h = 1 / h;
+    auto one = [&](int32_t k) {
+      const Real l0 = kLambda && !first ? sl[k] : Real(0);
+      const Real dl = xpbd_project<false, true>(bx, by, bz, mx, my, mz, w, si[k], sj[k], sr[k],
+                                                sk[k] * inv_h2, sc[k] * inv_h, l0);
+      if constexpr (kLambda) sl[k] = l0 + dl;
+    };
+    for (size_t c = 0; c + 1 < begin.size(); ++c) {
+      const int32_t b = begin[c], e = begin[c + 1];
+      if (independent[c]) {
+#pragma omp for simd schedule(static)
+        for (int32_t k = b; k < e; ++k) one(k);
+      } else {
+#pragma omp single
+        for (int32_t k = b; k < e; ++k) one(k);
+      }
+    }
+  }
+};
+
+/// One layer of the chain cover, its chains in groups of kLanes side by side (longest first, so
+/// that a group's chains are of about one length). Group G has `length[G]` constraints; its
+/// chains' particles are slot[(first[G] + t)·L + l] for t ≤ length[G] and lane l, padded with
+/// the still slot; its recurrence entries are first[G] + G·2 + 0 … length[G] + 1 (one before
+/// the first constraint and one after the last, never written, end them).
+template <typename Real>
+struct ChainLayer {
+  using Lane = typename Lanes<Real>::Vec;
+  static constexpr int L = Lanes<Real>::kLanes;
+  std::vector<int32_t> first, length, entry;  ///< per group; entry: its first recurrence entry
+  AlignedVector<int32_t> slot;                ///< per group, particle and lane
+  ChainScratch<Lane> scratch;                 ///< per recurrence entry
+  AlignedVector<Lane> dl;                     ///< per recurrence entry: ω·Δλ of the last pass
+
+  void build(std::vector<std::vector<int32_t>> chains, int32_t still) {
+    std::stable_sort(chains.begin(), chains.end(),
+                     [](const auto& a, const auto& b) { return a.size() > b.size(); });
+    first.clear(), length.clear(), entry.clear(), slot.clear();
+    int32_t entries = 0;
+    for (size_t c0 = 0; c0 < chains.size(); c0 += L) {
+      const int32_t len = static_cast<int32_t>(chains[c0].size()) - 1;  // the longest
+      first.push_back(static_cast<int32_t>(slot.size() / L));
+      length.push_back(len);
+      entry.push_back(entries);
+      entries += len + 2;
+      for (int32_t t = 0; t <= len; ++t)
+        for (int l = 0; l < L; ++l) {
+          const size_t c = c0 + l;
+          slot.push_back(c < chains.size() && t < static_cast<int32_t>(chains[c].size())
+                             ? chains[c][t]
+                             : still);
+        }
+    }
+    scratch.prepare(entries);
+    dl.assign(entries, Lane{});
+  }
+  int groups() const { return static_cast<int>(first.size()); }
+  int64_t bytes() const {
+    return heap_bytes(first, length, entry, slot, dl) + scratch.bytes();
+  }
+};
+
+template <typename Real>
+class MeshXpbd final : public Solver {
+  using Lane = typename Lanes<Real>::Vec;
+  static constexpr int L = Lanes<Real>::kLanes;
+
+ public:
+  void prepare(const World& w, const SolverDef& def) override {
+    const ClothModel& m = w.model;
+    n_ = m.size();
+    still_ = n_;
+    // The particles, the still slot, and padding to a whole block.
+    slots_ = (n_ + 1 + kBlock - 1) / kBlock * kBlock;
+    particles_.resize(slots_, L);
+    scratch_.assign(n_, Vec3::Zero());
+    iterations_ = def.iterations > 0 ? def.iterations : kDefaultIterations;
+    stiff_sweeps_ = def.stiff_sweeps;
+    attached_ = w.attachments.active();
+    particles_.prepare_attachments(w.attachments, n_, [](int32_t i) { return i; });
+
+    double stiffest = 0.0;
+    for (const Spring& s : m.springs) stiffest = std::max(stiffest, s.stiffness);
+    const bool lines = prepare_lines(w, def);
+    // Line passes solve the structural springs as chains; the rest are swept as always.
+    all_.build(m, [&](const Spring& s, int32_t) {
+      return !(lines && s.kind == SpringKind::structural);
+    });
+    stiffest_.build(m, [&](const Spring& s, int32_t) {
+      return lines ? s.kind == SpringKind::structural : s.stiffness >= stiffest;
+    });
+    all_.lambda.assign(iterations_ > 1 ? all_.i.size() : 0, 0.0);
+    current_ = false;
+    if (def.substeps > 0) {
+      substeps_ = def.substeps;
+      return;
+    }
+    substeps_ = automatic_substeps(
+        w, def, [&](const Spring& s) { return !(lines && s.kind == SpringKind::structural); });
+  }
+
+  void state_changed() override { current_ = false; }
+
+  void step_frame(World& w, double dt) override {
+    const double h = dt / substeps_;
+    ClothState& s = w.state;
+    const ClothModel& m = w.model;
+    // External acceleration, held over the frame: gravity plus the wind at the frame's start
+    // (as the grid solver does: the wind does not depend on the substep's positions).
+    const bool wind = w.forces.wind.strength > 0.0 && w.forces.wind.coefficient > 0.0;
+    if (wind) {
+      std::fill(scratch_.begin(), scratch_.end(), Vec3::Zero());
+      update_normals(m, s);
+      forces::add_wind(m, s, w.forces.wind, w.time, scratch_);
+    }
+    const Vec3 g = w.forces.gravity;
+    const double drag = w.forces.air_drag;
+    const bool read = !current_;
+    particles_.read_pins(s, w.attachments);
+    const int32_t blocks = slots_ / kBlock;
+
+#pragma omp parallel if (worth_threads(n_))
+    {
+      if (read || wind) {
+#pragma omp for schedule(static)
+        for (int32_t i = 0; i < n_; ++i)
+          particles_.read(s, i, i, wind ? Vec3(g + s.inv_mass[i] * scratch_[i]) : g, read);
+      }
+      for (int k = 0; k < substeps_; ++k) {
+        particles_.predict(h, drag);
+        for (int it = 0; it < iterations_; ++it) {
+          if (iterations_ > 1)
+            all_.template sweep<true>(particles_, h, it == 0);
+          else
+            all_.template sweep<false>(particles_, h, true);
+        }
+        if (lines_) {
+          for (int pass = 0; pass < line_passes_; ++pass) {
+            constrain(w.colliders, blocks);
+            solve_chains(h, pass == 0, pass + 1 < line_passes_ ? relaxation_ : 1);
+          }
+          for (int it = 0; it < stiff_sweeps_; ++it) {
+            constrain(w.colliders, blocks);
+            stiffest_.template sweep<false>(particles_, h, true);
+          }
+        } else {
+          for (int it = 0; it < stiff_sweeps_; ++it) {
+            if (it % kContactEvery == 0 && !w.colliders.empty()) {
+#pragma omp for schedule(static)
+              for (int32_t b = 0; b < blocks; ++b)
+                particles_.contacts(w.colliders, b * kBlock, (b + 1) * kBlock);
+            }
+            stiffest_.template sweep<false>(particles_, h, true);
+          }
+          if (attached_) {
+#pragma omp for schedule(static)
+            for (int32_t b = 0; b < blocks; ++b)
+              particles_.attachments(b * kBlock, (b + 1) * kBlock);
+          }
+        }
+#pragma omp for schedule(static)
+        for (int32_t b = 0; b < blocks; ++b) {
+          particles_.contacts(w.colliders, b * kBlock, (b + 1) * kBlock);
+          particles_.velocities(h, b * kBlock, (b + 1) * kBlock);
+        }
+      }
+#pragma omp for schedule(static)
+      for (int32_t i = 0; i < n_; ++i) particles_.write(s, i, i);
+    }
+    update_normals(m, s);
+    current_ = true;
+  }
+
+  int substeps() const override { return substeps_; }
+  int64_t workspace_bytes() const override {
+    int64_t bytes = particles_.bytes() + heap_bytes(scratch_) + all_.bytes() + stiffest_.bytes() +
+                    left_over_.bytes();
+    for (const ChainLayer<Real>& layer : layers_) bytes += layer.bytes();
+    return bytes;
+  }
+
+ private:
+  // Line passes: the chain cover of the structural springs, unless something is fixed that
+  // attachments do not hold (a particle held by the hand: the passes pause while it is, as on
+  // the grid). A chain through a fixed particle is swept spring by spring instead (between two
+  // pins it is a taut string, whose exact solve is near singular), as are the springs the cover
+  // leaves over. Returns whether the passes run.
+  bool prepare_lines(const World& w, const SolverDef& def) {
+    const ClothModel& m = w.model;
+    line_passes_ = def.line_passes;
+    relaxation_ = static_cast<Real>(def.line_relaxation);
+    layers_.clear();
+    left_over_ = {};
+    int32_t fixed = 0;
+    for (int32_t i = 0; i < n_; ++i) fixed += w.state.inv_mass[i] == 0.0;
+    const bool held = fixed > static_cast<int32_t>(w.attachments.pins().size());
+    lines_ = line_passes_ > 0 && !held;
+    if (!lines_) return false;
+    std::vector<std::pair<int32_t, int32_t>> edges;
+    std::vector<int32_t> spring_of;  // the model's spring for each edge
+    for (int32_t k = 0; k < static_cast<int32_t>(m.springs.size()); ++k) {
+      const Spring& s = m.springs[k];
+      if (s.kind != SpringKind::structural || !(s.stiffness > 0.0)) continue;
+      edges.push_back({s.i, s.j});
+      spring_of.push_back(k);
+    }
+    const ChainCover cover = cover_with_chains(m.rest_position, edges, kMaxLayers, kMinChain);
+    std::vector<uint8_t> swept(m.springs.size(), 0);
+    for (int32_t e : cover.left_over) swept[spring_of[e]] = 1;
+    std::map<std::pair<int32_t, int32_t>, int32_t> spring_at;  // particle pair → spring
+    for (size_t e = 0; e < edges.size(); ++e)
+      spring_at[{std::min(edges[e].first, edges[e].second),
+                 std::max(edges[e].first, edges[e].second)}] = spring_of[e];
+    for (const auto& chains : cover.layers) {
+      std::vector<std::vector<int32_t>> solved;
+      for (const std::vector<int32_t>& chain : chains) {
+        const bool through_fixed = std::any_of(chain.begin(), chain.end(), [&](int32_t p) {
+          return w.state.inv_mass[p] == 0.0;
+        });
+        if (!through_fixed) {
+          solved.push_back(chain);
+          continue;
+        }
+        for (size_t t = 0; t + 1 < chain.size(); ++t)
+          swept[spring_at.at({std::min(chain[t], chain[t + 1]),
+                              std::max(chain[t], chain[t + 1])})] = 1;
+      }
+      if (solved.empty()) continue;
+      layers_.emplace_back();
+      layers_.back().build(std::move(solved), still_);
+    }
+    left_over_.build(m, [&](const Spring&, int32_t k) { return swept[k] != 0; });
+    // Every structural spring of the cover has the scene's one stiffness, rest length aside;
+    // each chain constraint keeps its own rest length.
+    structural_ = {};
+    for (const Spring& s : m.springs)
+      if (s.kind == SpringKind::structural && s.stiffness > 0.0) {
+        structural_ = {s.stiffness, s.damping};
+        break;
+      }
+    chain_rest_.clear();
+    for (ChainLayer<Real>& layer : layers_) {
+      chain_rest_.emplace_back(layer.slot.size(), Real(0));
+      AlignedVector<Real>& rest = chain_rest_.back();
+      for (int G = 0; G < layer.groups(); ++G)
+        for (int32_t t = 0; t < layer.length[G]; ++t)
+          for (int l = 0; l < L; ++l) {
+            const size_t at = (size_t(layer.first[G]) + t) * L + l;
+            const int32_t a = layer.slot[at], b = layer.slot[at + L];
+            if (a == still_ || b == still_) continue;
+            rest[at] = static_cast<Real>((m.rest_position[b] - m.rest_position[a]).norm());
+          }
+    }
+    return true;
+  }
+
+  // The attachments and contacts, as each pass and each stiff sweep after them starts.
+  void constrain(const std::vector<Collider>& colliders, int32_t blocks) {
+    if (!attached_ && colliders.empty()) return;
+#pragma omp for schedule(static)
+    for (int32_t b = 0; b < blocks; ++b) {
+      if (attached_) particles_.attachments(b * kBlock, (b + 1) * kBlock);
+      particles_.contacts(colliders, b * kBlock, (b + 1) * kBlock);
+    }
+  }
+
+  // One pass over the chains, layer by layer (block Gauss–Seidel between layers), every pass but
+  // the last over-relaxed by ω, as the grid's; then the left-over structural springs, swept.
+  void solve_chains(Real h, bool first, Real omega) {
+    const auto [alpha_tilde, gamma] =
+        Compliance<Real>::of(structural_.stiffness, structural_.damping, h);
+    for (size_t f = 0; f < layers_.size(); ++f) {
+      ChainLayer<Real>& layer = layers_[f];
+#pragma omp for schedule(static)
+      for (int G = 0; G < layer.groups(); ++G)
+        solve_group(layer, chain_rest_[f], G, alpha_tilde, gamma, first, omega);
+    }
+    if (!left_over_.empty()) left_over_.template sweep<false>(particles_, h, true);
+  }
+
+  // The chains of group G: each constraint's row from the particles (gathered lane by lane),
+  // eliminated as it comes; the substitution back; the moves, lane by lane.
+  void solve_group(ChainLayer<Real>& layer, const AlignedVector<Real>& chain_rest, int G,
+                   Real alpha_tilde, Real gamma, bool first, Real omega) {
+    const Real *__restrict bx = particles_.base.x.data(), *__restrict by = particles_.base.y.data(),
+                           *__restrict bz = particles_.base.z.data();
+    Real *__restrict mx = particles_.move.x.data(), *__restrict my = particles_.move.y.data(),
+                     *__restrict mz = particles_.move.z.data();
+    const Real* __restrict w = particles_.inv_mass.data();
+    ChainScratch<Lane>& cs = layer.scratch;
+    Lane *__restrict nx = cs.n.x.data(), *__restrict ny = cs.n.y.data(),
+                     *__restrict nz = cs.n.z.data();
+    Lane *__restrict fe = cs.f.data(), *__restrict g = cs.g.data(),
+                     *__restrict inv_beta = cs.inv_beta.data(), *__restrict lambda = cs.lambda.data();
+    const int32_t* __restrict slot = layer.slot.data() + size_t(layer.first[G]) * L;
+    const Real* __restrict rest = chain_rest.data() + size_t(layer.first[G]) * L;
+    const int len = layer.length[G], e0 = layer.entry[G];
+    const Real keep = first ? Real(0) : Real(1);
+    // Particle t of every lane, gathered.
+    struct Ends {
+      Lane bx, by, bz, mx, my, mz, w;
+    };
+    auto gather = [&](int t) {
+      Ends e;
+      for (int l = 0; l < L; ++l) {
+        const int32_t p = slot[t * L + l];
+        e.bx[l] = bx[p], e.by[l] = by[p], e.bz[l] = bz[p];
+        e.mx[l] = mx[p], e.my[l] = my[p], e.mz[l] = mz[p];
+        e.w[l] = w[p];
+      }
+      return e;
+    };
+    Ends a = gather(0);
+    for (int t = 0; t < len; ++t) {
+      const Ends b = gather(t + 1);
+      // chain_row's arithmetic on lanes: direction, diagonal, right-hand side (zero where both
+      // ends are still: padding lanes, whose Δλ then stays zero).
+      const Lane rx = b.mx - a.mx, ry = b.my - a.my, rz = b.mz - a.mz;
+      const Lane dx = (b.bx - a.bx) + rx, dy = (b.by - a.by) + ry, dz = (b.bz - a.bz) + rz;
+      Lane len2 = dx * dx + dy * dy + dz * dz, length;
+      for (int l = 0; l < L; ++l) length[l] = std::sqrt(len2[l]);
+      const Lane inv = length > 0 ? Lane{} + 1 / length : Lane{};
+      Lane r0;
+      std::memcpy(&r0, rest + t * L, sizeof(Lane));
+      const Lane ux = dx * inv, uy = dy * inv, uz = dz * inv, wsum = a.w + b.w;
+      const ChainRowOf<Lane> c{
+          ux, uy, uz, (1 + gamma) * wsum + alpha_tilde,
+          wsum > 0 ? -(length - r0) - gamma * (ux * rx + uy * ry + uz * rz) : Lane{}};
+      const int q = e0 + t + 1;
+      eliminate<Lane>(c, a.w, gamma, alpha_tilde * keep * lambda[q], nx, ny, nz, fe, g, inv_beta,
+                      q - 1, q, q);
+      a = b;
+    }
+    for (int t = len - 1; t >= 0; --t) {
+      const int q = e0 + t + 1;
+      layer.dl[q] = omega * substitute<Lane>(g, inv_beta, lambda, keep, omega, q, fe[q + 1],
+                                             g[q + 1]);
+    }
+    // The moves: constraint t pulls particle t back and t + 1 on along its direction, lane by
+    // lane (a layer's chains share no particle; the still slot takes no move).
+    for (int t = 0; t < len; ++t) {
+      const int q = e0 + t + 1;
+      for (int l = 0; l < L; ++l) {
+        const int32_t i = slot[t * L + l], j = slot[(t + 1) * L + l];
+        if (i == still_ || j == still_) continue;
+        const Real s = layer.dl[q][l], sx = nx[q][l], sy = ny[q][l], sz = nz[q][l];
+        mx[i] -= w[i] * s * sx;
+        my[i] -= w[i] * s * sy;
+        mz[i] -= w[i] * s * sz;
+        mx[j] += w[j] * s * sx;
+        my[j] += w[j] * s * sy;
+        mz[j] += w[j] * s * sz;
+      }
+    }
+  }
+
+  int32_t n_ = 0, slots_ = 0, still_ = 0;
+  // Whether the arrays hold the state as the last frame left it (see the grid solver).
+  bool current_ = false;
+  int substeps_ = 1;
+  int iterations_ = kDefaultIterations;
+  int stiff_sweeps_ = 0;
+  bool attached_ = false;
+  Particles<Real> particles_;
+  std::vector<Vec3> scratch_;  ///< wind forces, AoS as forces.h writes them
+  SweepSet<Real> all_;         ///< every spring (with line passes: all but the structural)
+  SweepSet<Real> stiffest_;    ///< the stiffest springs (with line passes: the structural)
+  // Line passes (solver.line_passes).
+  int line_passes_ = 0;
+  Real relaxation_ = 1;
+  bool lines_ = false;
+  SpringParams structural_;                     ///< the chains' springs' stiffness and damping
+  std::vector<ChainLayer<Real>> layers_;        ///< the chain cover's layers
+  std::vector<AlignedVector<Real>> chain_rest_;  ///< per layer, like its slots: rest lengths
+  SweepSet<Real> left_over_;                    ///< structural springs in no solved chain
+};
+
+}  // namespace
+
+}  // namespace drape::xpbd
+
+namespace drape {
+
+std::unique_ptr<Solver> make_mesh_xpbd(Precision precision) {
+  if (precision == Precision::f32) return std::make_unique<xpbd::MeshXpbd<float>>();
+  return std::make_unique<xpbd::MeshXpbd<double>>();
+}
+
+}  // namespace drape
