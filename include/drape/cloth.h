@@ -57,9 +57,9 @@ struct ClothModel {
   /// vertex_triangles[vertex_triangle_begin[p] .. vertex_triangle_begin[p + 1]).
   std::vector<int32_t> vertex_triangle_begin;
   std::vector<int32_t> vertex_triangles;
-  /// Per particle, texture coordinates for drawing: the grid's (u along the columns, v down the
-  /// rows, in [0, 1]), a mesh's own (its first corner's at a seam), or, for a mesh without
-  /// any, the rest shape projected on its widest plane.
+  /// Per particle, texture coordinates for drawing, v running down the texture: the grid's (u
+  /// along the columns, v down the rows, in [0, 1]), a mesh's own (its first corner's at a
+  /// seam), or, for a mesh without any, the rest shape projected on its widest plane.
   std::vector<Vec2> uv;
   bool has_texcoords = false;  ///< the mesh came with texture coordinates (or is a grid)
   /// A mesh's texture coordinates per triangle corner, as it had them (seams kept), for export;

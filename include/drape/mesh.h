@@ -18,8 +18,9 @@ using Triangle = std::array<int32_t, 3>;
 struct ClothMesh {
   std::vector<Vec3> positions;      ///< m, the rest shape
   std::vector<Triangle> triangles;  ///< indices into positions
-  /// Texture coordinates, as many as the file had (empty: none). A vertex on a seam has one
-  /// per side, so they are indexed per triangle corner through triangle_texcoords.
+  /// Texture coordinates, as many as the file had (empty: none), v up as in OBJ files. A vertex
+  /// on a seam has one per side, so they are indexed per triangle corner through
+  /// triangle_texcoords.
   std::vector<Vec2> texcoords;
   std::vector<Triangle> triangle_texcoords;  ///< per triangle, indices into texcoords, or empty
   /// Per triangle, the line of the file its face was read from, for messages (empty when the

@@ -16,6 +16,7 @@ inline constexpr int kExitNoGraphics = 4;
 /// Each registers a subcommand; the returned function runs it if it was given (else -1).
 std::function<int()> add_run_command(CLI::App& app);
 std::function<int()> add_bench_command(CLI::App& app);
+std::function<int()> add_mesh_command(CLI::App& app);
 
 /// Registers `drape render` (frames to PNG without a display, through EGL).
 std::function<int()> add_render_command(CLI::App& app);

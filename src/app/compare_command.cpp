@@ -140,9 +140,13 @@ int compare(const CompareOptions& o) {
     rows.push_back(row);
     if (run.status == RunStatus::interrupted) break;
   }
-  std::printf("%s: %dx%d particles, %lld frames of %.4g s (%.3g s simulated), %d thread(s)\n",
-              def.name.c_str(), def.cloth.cols, def.cloth.rows, static_cast<long long>(frames),
-              def.solver.dt, static_cast<double>(frames) * def.solver.dt, omp_get_max_threads());
+  const std::string cloth = def.cloth.mesh ? "mesh " + def.cloth.mesh_file + ", " +
+                                                 std::to_string(particle_count(def.cloth))
+                                           : std::to_string(def.cloth.cols) + "x" +
+                                                 std::to_string(def.cloth.rows);
+  std::printf("%s: %s particles, %lld frames of %.4g s (%.3g s simulated), %d thread(s)\n",
+              def.name.c_str(), cloth.c_str(), static_cast<long long>(frames), def.solver.dt,
+              static_cast<double>(frames) * def.solver.dt, omp_get_max_threads());
   print_table(rows, o.markdown);
   if (int s = interrupt_signal()) return interrupt_exit_code(s);
   return kExitOk;

@@ -45,7 +45,7 @@ int main(int argc, char** argv) {
   app.set_version_flag("--version", DRAPE_VERSION);
   app.require_subcommand(1);
   std::vector<std::function<int()>> commands{add_run_command(app), add_compare_command(app),
-                                              add_bench_command(app)};
+                                              add_bench_command(app), add_mesh_command(app)};
 #ifdef DRAPE_HAVE_VIEWER
   commands.push_back(add_view_command(app));
 #endif

@@ -67,17 +67,22 @@ RunResult run_frames(Simulation& sim, int64_t frames, const RunHooks& hooks) {
 }
 
 void check_memory(const SceneDef& def, const Budget& budget) {
-  const int64_t particles = int64_t{def.cloth.cols} * int64_t{def.cloth.rows};
+  const int64_t particles = particle_count(def.cloth);
   const int64_t bytes = estimated_memory(def);
   if (bytes <= budget.bytes) return;
-  char problem[256];
+  const bool mesh = def.cloth.mesh != nullptr;
+  char problem[320];
   std::snprintf(problem, sizeof problem,
-                "%dx%d is %lld particles, about %.1f GiB, more than the %.1f GiB budget; "
-                "lower the resolution, or pass --force to run it anyway",
-                def.cloth.cols, def.cloth.rows, static_cast<long long>(particles),
-                static_cast<double>(bytes) / (1 << 30),
-                static_cast<double>(budget.bytes) / (1 << 30));
-  throw InputError("cloth.resolution", problem);
+                "%s%lld particles, about %.1f GiB, more than the %.1f GiB budget; %s, or pass "
+                "--force to run it anyway",
+                mesh ? "the mesh has "
+                     : (std::to_string(def.cloth.cols) + "x" + std::to_string(def.cloth.rows) +
+                        " is ")
+                           .c_str(),
+                static_cast<long long>(particles), static_cast<double>(bytes) / (1 << 30),
+                static_cast<double>(budget.bytes) / (1 << 30),
+                mesh ? "use a coarser mesh" : "lower the resolution");
+  throw InputError(mesh ? "cloth.mesh" : "cloth.resolution", problem);
 }
 
 void check_work(const Simulation& sim, int64_t frames, const Budget& budget) {

@@ -440,23 +440,30 @@ void Viewer::draw_panel() {
     live |= slider("safety", edit_.solver.safety, 0.1, 1.0, "%.2f");
   }
   if (ImGui::CollapsingHeader("Cloth", ImGuiTreeNodeFlags_DefaultOpen)) {
-    int res[2] = {edit_.cloth.cols, edit_.cloth.rows};
-    if (ImGui::InputInt2("resolution", res)) {
-      edit_.cloth.cols = std::clamp(res[0], 2, 512);
-      edit_.cloth.rows = std::clamp(res[1], 2, 512);
+    if (edit_.cloth.mesh) {
+      // A mesh's shape is its file's: only what the grid and a mesh share is edited here.
+      ImGui::TextWrapped("mesh %s", edit_.cloth.mesh_file.c_str());
+    } else {
+      int res[2] = {edit_.cloth.cols, edit_.cloth.rows};
+      if (ImGui::InputInt2("resolution", res)) {
+        edit_.cloth.cols = std::clamp(res[0], 2, 512);
+        edit_.cloth.rows = std::clamp(res[1], 2, 512);
+      }
+      new_cloth |= ImGui::IsItemDeactivatedAfterEdit();
+      double size[2] = {edit_.cloth.width, edit_.cloth.height};
+      const double size_lo = 0.1, size_hi = 10.0;
+      if (ImGui::SliderScalarN("size (m)", ImGuiDataType_Double, size, 2, &size_lo, &size_hi,
+                               "%.2f")) {
+        edit_.cloth.width = size[0];
+        edit_.cloth.height = size[1];
+      }
+      new_cloth |= ImGui::IsItemDeactivatedAfterEdit();
     }
-    new_cloth |= ImGui::IsItemDeactivatedAfterEdit();
-    double size[2] = {edit_.cloth.width, edit_.cloth.height};
-    const double size_lo = 0.1, size_hi = 10.0;
-    if (ImGui::SliderScalarN("size (m)", ImGuiDataType_Double, size, 2, &size_lo, &size_hi,
-                             "%.2f")) {
-      edit_.cloth.width = size[0];
-      edit_.cloth.height = size[1];
-    }
-    new_cloth |= ImGui::IsItemDeactivatedAfterEdit();
     live |= slider("mass (kg)", edit_.cloth.mass, 0.01, 20.0, "%.3g", true);
     SpringParams* kinds[] = {&edit_.cloth.structural, &edit_.cloth.shear, &edit_.cloth.bending};
     for (int k = 0; k < kSpringKinds; ++k) {
+      // A mesh has no shear springs: its triangles' edges carry shear.
+      if (edit_.cloth.mesh && static_cast<SpringKind>(k) == SpringKind::shear) continue;
       ImGui::PushID(k);
       const std::string name = to_string(static_cast<SpringKind>(k));
       live |= slider((name + " k (N/m)").c_str(), kinds[k]->stiffness, 0.0, 1e5, "%.4g", true);

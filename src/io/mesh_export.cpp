@@ -44,10 +44,26 @@ void write_obj(FILE* f, const ClothModel& m, const ClothState& s) {
   std::fprintf(f, "# drape cloth: %d particles, %zu triangles\n", m.size(), m.triangles.size());
   for (const Vec3& x : s.x) std::fprintf(f, "v %.9g %.9g %.9g\n", x.x(), x.y(), x.z());
   for (const Vec3& n : s.normal) std::fprintf(f, "vn %.6f %.6f %.6f\n", n.x(), n.y(), n.z());
-  for (const Vec2& t : m.uv) std::fprintf(f, "vt %.6f %.6f\n", t.x(), 1.0 - t.y());
-  for (const Triangle& t : m.triangles) {
-    const int a = t[0] + 1, b = t[1] + 1, c = t[2] + 1;  // OBJ counts from 1
-    std::fprintf(f, "f %d/%d/%d %d/%d/%d %d/%d/%d\n", a, a, a, b, b, b, c, c, c);
+  // Texture coordinates as the cloth had them: per corner where a mesh has seams, per vertex
+  // otherwise; none for a mesh that came without.
+  const bool corners = !m.triangle_texcoords.empty();
+  if (corners)
+    for (const Vec2& t : m.texcoords) std::fprintf(f, "vt %.6f %.6f\n", t.x(), 1.0 - t.y());
+  else if (m.has_texcoords)
+    for (const Vec2& t : m.uv) std::fprintf(f, "vt %.6f %.6f\n", t.x(), 1.0 - t.y());
+  for (size_t k = 0; k < m.triangles.size(); ++k) {
+    const Triangle& t = m.triangles[k];
+    std::fprintf(f, "f");
+    for (int c = 0; c < 3; ++c) {
+      const int v = t[c] + 1;  // OBJ counts from 1
+      if (corners)
+        std::fprintf(f, " %d/%d/%d", v, m.triangle_texcoords[k][c] + 1, v);
+      else if (m.has_texcoords)
+        std::fprintf(f, " %d/%d/%d", v, v, v);
+      else
+        std::fprintf(f, " %d//%d", v, v);
+    }
+    std::fprintf(f, "\n");
   }
 }
 
@@ -81,6 +97,27 @@ void write_mesh(const std::string& file, MeshFormat format, const ClothModel& mo
   AtomicFile out(file);
   if (format == MeshFormat::obj) write_obj(out.get(), model, state);
   else write_ply(out.get(), model, state);
+  out.commit();
+}
+
+void write_obj(const std::string& file, const ClothMesh& mesh, const std::string& comment) {
+  AtomicFile out(file);
+  FILE* f = out.get();
+  std::fprintf(f, "# %s\n# %zu vertices, %zu triangles\n", comment.c_str(), mesh.positions.size(),
+               mesh.triangles.size());
+  for (const Vec3& x : mesh.positions) std::fprintf(f, "v %.9g %.9g %.9g\n", x.x(), x.y(), x.z());
+  for (const Vec2& t : mesh.texcoords) std::fprintf(f, "vt %.6f %.6f\n", t.x(), t.y());
+  const bool textured = !mesh.triangle_texcoords.empty();
+  for (size_t k = 0; k < mesh.triangles.size(); ++k) {
+    std::fprintf(f, "f");
+    for (int c = 0; c < 3; ++c) {
+      if (textured)
+        std::fprintf(f, " %d/%d", mesh.triangles[k][c] + 1, mesh.triangle_texcoords[k][c] + 1);
+      else
+        std::fprintf(f, " %d", mesh.triangles[k][c] + 1);
+    }
+    std::fprintf(f, "\n");
+  }
   out.commit();
 }
 

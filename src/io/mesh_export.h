@@ -5,6 +5,7 @@
 #include <string>
 
 #include "drape/cloth.h"
+#include "drape/mesh.h"
 
 namespace drape::io {
 
@@ -14,6 +15,10 @@ enum class MeshFormat { obj, ply };
 /// a file. Throws std::runtime_error naming the file if it cannot be written.
 void write_mesh(const std::string& file, MeshFormat format, const ClothModel& model,
                 const ClothState& state);
+
+/// Writes a mesh at rest (vertices, texture coordinates, triangles) as OBJ, through a
+/// temporary name and a rename, with `comment` on its first line.
+void write_obj(const std::string& file, const ClothMesh& mesh, const std::string& comment);
 
 /// Writes `text` to `file` through a temporary name and a rename.
 void write_file_atomically(const std::string& file, const std::string& text);

@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "drape/error.h"
+#include "io/obj_import.h"
 
 namespace drape::io {
 
@@ -180,13 +181,68 @@ std::vector<Pin> read_pins(const json& v, const std::string& path) {
       else
         fail(at, "unknown corner \"" + name +
                      "\"; expected \"top-left\", \"top-right\", \"bottom-left\", "
-                     "\"bottom-right\" or a grid index [col, row]");
+                     "\"bottom-right\", a grid index [col, row], {\"vertex\": i} or {\"box\": "
+                     "{\"min\": [x, y, z], \"max\": [x, y, z]}}");
+    } else if (p.is_object()) {
+      Reader r(p, at);
+      const json* vertex = r.find("vertex");
+      const json* box = r.find("box");
+      if ((vertex != nullptr) == (box != nullptr))
+        fail(at, "expected {\"vertex\": i} or {\"box\": {\"min\": [x, y, z], \"max\": [x, y, z]}}");
+      if (vertex) {
+        pins.push_back(Pin::at_vertex(Reader::as_integer(*vertex, at + ".vertex")));
+      } else {
+        Reader b(*box, at + ".box");
+        Vec3 lo = Vec3::Zero(), hi = Vec3::Zero();
+        if (!b.find("min")) fail(at + ".box.min", "missing");
+        if (!b.find("max")) fail(at + ".box.max", "missing");
+        b.vec3("min", lo);
+        b.vec3("max", hi);
+        b.finish();
+        pins.push_back(Pin::in_box(lo, hi));
+      }
+      r.finish();
     } else {
-      Reader::pair(p, at, "integers [col, row] or a corner name");
+      Reader::pair(p, at, "integers [col, row], a corner name, {\"vertex\": i} or {\"box\": ...}");
       pins.push_back({Reader::as_integer(p[0], at + "[0]"), Reader::as_integer(p[1], at + "[1]")});
     }
   }
   return pins;
+}
+
+// cloth.transform: {"translate": [x, y, z], "rotate": [rx, ry, rz], "scale": s or [sx, sy, sz]}.
+MeshTransform read_transform(const json& v, const std::string& path) {
+  Reader r(v, path);
+  MeshTransform t;
+  r.vec3("translate", t.translate);
+  r.vec3("rotate", t.rotate);
+  if (const json* s = r.find("scale")) {
+    if (s->is_number()) {
+      const double k = Reader::as_number(*s, path + ".scale");
+      t.scale = Vec3(k, k, k);
+    } else {
+      t.scale = Reader::as_vec3(*s, path + ".scale");
+    }
+  }
+  r.finish();
+  return t;
+}
+
+// The mesh file named at cloth.mesh, found in `folder` when relative: read and kept whole in the
+// definition, with the path it was found at (lexically normal) for messages and scene files.
+void read_mesh(const json& v, const std::string& folder, ClothDef& c) {
+  namespace fs = std::filesystem;
+  if (!v.is_string()) fail("cloth.mesh", "expected the path of an OBJ file, got " + type_name(v));
+  const std::string name = v.get<std::string>();
+  if (name.empty()) fail("cloth.mesh", "is empty; expected the path of an OBJ file");
+  fs::path file(name);
+  if (file.is_relative() && !folder.empty()) file = fs::path(folder) / file;
+  c.mesh_file = file.lexically_normal().string();
+  try {
+    c.mesh = std::make_shared<const ClothMesh>(read_obj(c.mesh_file));
+  } catch (const InputError& e) {
+    fail("cloth.mesh (" + c.mesh_file + ")", e.problem());
+  }
 }
 
 ColliderDef read_collider(const json& v, const std::string& path) {
@@ -253,7 +309,7 @@ std::string display_path(const std::vector<std::string>& parts) {
 
 }  // namespace
 
-SceneDef parse_scene(const json& j, const std::string& source) {
+SceneDef parse_scene(const json& j, const std::string& source, const std::string& folder) {
   try {
     SceneDef def;
     Reader top(j, "");
@@ -261,6 +317,21 @@ SceneDef parse_scene(const json& j, const std::string& source) {
     if (const json* cj = top.find("cloth")) {
       ClothDef& c = def.cloth;
       Reader r(*cj, "cloth");
+      if (const json* v = r.find("mesh")) {
+        // A mesh replaces the grid: the grid's keys beside it are a mistake worth naming.
+        std::string grid_keys;
+        for (const char* key : {"size", "resolution", "origin", "orientation"})
+          if (cj->contains(key)) grid_keys += std::string(grid_keys.empty() ? "" : ", ") + "cloth." + key;
+        if (!grid_keys.empty())
+          fail("cloth.mesh", "is given, so the grid's keys (" + grid_keys +
+                                 ") have no meaning beside it; remove them and place the mesh "
+                                 "with cloth.transform");
+        read_mesh(*v, folder, c);
+      }
+      if (const json* v = r.find("transform")) {
+        if (!c.mesh) fail("cloth.transform", "places a mesh; there is no cloth.mesh");
+        c.transform = read_transform(*v, "cloth.transform");
+      }
       if (const json* v = r.find("size")) {
         Reader::pair(*v, "cloth.size", "numbers [width, height] in m");
         c.width = Reader::as_number((*v)[0], "cloth.size[0]");
@@ -275,6 +346,7 @@ SceneDef parse_scene(const json& j, const std::string& source) {
       r.choice("orientation", c.orientation, {Orientation::vertical, Orientation::horizontal});
       r.number("mass", c.mass);
       if (const json* v = r.find("pins")) c.pins = read_pins(*v, "cloth.pins");
+      else if (c.mesh) c.pins.clear();  // the default corners are a grid's; a mesh has none
       if (const json* v = r.find("springs")) {
         Reader s(*v, "cloth.springs");
         read_springs(s, "structural", c.structural);
@@ -400,7 +472,7 @@ SceneDef load_scene(const std::string& file, const std::vector<std::string>& ove
   } catch (const InputError& e) {
     throw InputError(e.path().empty() ? file : file + ": " + e.path(), e.problem());
   }
-  return parse_scene(j, file);
+  return parse_scene(j, file, std::filesystem::path(file).parent_path().string());
 }
 
 json to_json(const SceneDef& d) {
@@ -409,7 +481,15 @@ json to_json(const SceneDef& d) {
     return json{{"stiffness", p.stiffness}, {"damping", p.damping}};
   };
   json pins = json::array();
-  for (const Pin& p : d.cloth.pins) pins.push_back({p.col, p.row});
+  for (const Pin& p : d.cloth.pins) {
+    switch (p.kind) {
+      case PinKind::grid: pins.push_back({p.col, p.row}); break;
+      case PinKind::vertex: pins.push_back(json{{"vertex", p.vertex}}); break;
+      case PinKind::box:
+        pins.push_back(json{{"box", json{{"min", v3(p.box_min)}, {"max", v3(p.box_max)}}}});
+        break;
+    }
+  }
   json colliders = json::array();
   for (const ColliderDef& c : d.colliders) {
     json o{{"type", to_string(c.type)}, {"friction", c.friction}, {"thickness", c.thickness}};
@@ -424,21 +504,28 @@ json to_json(const SceneDef& d) {
   }
   const ClothDef& c = d.cloth;
   const WindDef& w = d.forces.wind;
+  json cloth{{"mass", c.mass},
+             {"pins", pins},
+             {"springs",
+              {{"structural", springs(c.structural)},
+               {"shear", springs(c.shear)},
+               {"bending", springs(c.bending)}}},
+             {"perturbation", c.perturbation},
+             {"long_range", c.long_range.enabled ? json{{"slack", c.long_range.slack}} : json(false)}};
+  if (c.mesh) {
+    cloth["mesh"] = c.mesh_file;
+    cloth["transform"] = {{"translate", v3(c.transform.translate)},
+                          {"rotate", v3(c.transform.rotate)},
+                          {"scale", v3(c.transform.scale)}};
+  } else {
+    cloth["size"] = {c.width, c.height};
+    cloth["resolution"] = {c.cols, c.rows};
+    cloth["origin"] = v3(c.origin);
+    cloth["orientation"] = to_string(c.orientation);
+  }
   return json{
       {"name", d.name},
-      {"cloth",
-       {{"size", {c.width, c.height}},
-        {"resolution", {c.cols, c.rows}},
-        {"origin", v3(c.origin)},
-        {"orientation", to_string(c.orientation)},
-        {"mass", c.mass},
-        {"pins", pins},
-        {"springs",
-         {{"structural", springs(c.structural)},
-          {"shear", springs(c.shear)},
-          {"bending", springs(c.bending)}}},
-        {"perturbation", c.perturbation},
-        {"long_range", c.long_range.enabled ? json{{"slack", c.long_range.slack}} : json(false)}}},
+      {"cloth", cloth},
       {"forces",
        {{"gravity", v3(d.forces.gravity)},
         {"air_drag", d.forces.air_drag},

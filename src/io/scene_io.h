@@ -16,8 +16,10 @@ namespace drape::io {
 /// Throws InputError whose message starts with the file name.
 SceneDef load_scene(const std::string& file, const std::vector<std::string>& overrides = {});
 
-/// The same for JSON already in memory; `source` names it in messages.
-SceneDef parse_scene(const nlohmann::json& j, const std::string& source);
+/// The same for JSON already in memory; `source` names it in messages, and a relative
+/// `cloth.mesh` is found in `folder` (empty: the working directory).
+SceneDef parse_scene(const nlohmann::json& j, const std::string& source,
+                     const std::string& folder = "");
 
 /// Sets one "dotted.path=value" override in a scene's JSON. Objects on the way are created;
 /// array elements are addressed by number (colliders.0.radius). Throws InputError.

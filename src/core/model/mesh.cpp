@@ -171,6 +171,10 @@ ClothModel from_mesh(const ClothDef& def) {
   m.uv.assign(n, Vec2::Zero());
   if (!mesh.triangle_texcoords.empty()) {
     m.has_texcoords = true;
+    // The model's v runs down the texture (as the grid's rows), the file's up (OBJ).
+    std::vector<Vec2> texcoords(mesh.texcoords.size());
+    for (size_t k = 0; k < texcoords.size(); ++k)
+      texcoords[k] = Vec2(mesh.texcoords[k].x(), 1.0 - mesh.texcoords[k].y());
     std::vector<int32_t> first(n, -1);
     bool seams = false;
     for (size_t t = 0; t < m.triangles.size(); ++t) {
@@ -178,14 +182,14 @@ ClothModel from_mesh(const ClothDef& def) {
         const int32_t v = m.triangles[t][k], c = mesh.triangle_texcoords[t][k];
         if (first[v] < 0) {
           first[v] = c;
-          m.uv[v] = mesh.texcoords[c];
+          m.uv[v] = texcoords[c];
         } else {
-          seams = seams || mesh.texcoords[c] != m.uv[v];
+          seams = seams || texcoords[c] != m.uv[v];
         }
       }
     }
     if (seams) {
-      m.texcoords = mesh.texcoords;
+      m.texcoords = texcoords;
       m.triangle_texcoords = mesh.triangle_texcoords;
     }
   } else {

@@ -59,13 +59,13 @@ ChainCover cover_with_chains(const std::vector<Vec3>& x,
   }
   // Trails: follow the partners from an edge end that has none (open trails first, then what
   // is left, cycles, each cut where it was entered).
-  std::vector<uint8_t> taken(m, 0);
+  std::vector<uint8_t> walked(m, 0);
   std::vector<std::vector<int32_t>> trails;  // as particle sequences
   auto walk = [&](int32_t e, int32_t from) {
     std::vector<int32_t> trail{from};
     int32_t p = from;
-    while (e >= 0 && !taken[e]) {
-      taken[e] = 1;
+    while (e >= 0 && !walked[e]) {
+      walked[e] = 1;
       const int32_t q = other(e, p);
       trail.push_back(q);
       e = partner[end_of(e, q)];
@@ -75,10 +75,10 @@ ChainCover cover_with_chains(const std::vector<Vec3>& x,
   };
   for (int32_t e = 0; e < m; ++e)
     for (int s = 0; s < 2; ++s)
-      if (!taken[e] && partner[2 * e + s] < 0)
+      if (!walked[e] && partner[2 * e + s] < 0)
         walk(e, s == 0 ? edges[e].first : edges[e].second);
   for (int32_t e = 0; e < m; ++e)
-    if (!taken[e]) walk(e, edges[e].first);
+    if (!walked[e]) walk(e, edges[e].first);
   std::stable_sort(trails.begin(), trails.end(),
                    [](const auto& a, const auto& b) { return a.size() > b.size(); });
 
@@ -90,6 +90,27 @@ ChainCover cover_with_chains(const std::vector<Vec3>& x,
   std::vector<uint8_t> in_run(n, 0);
   std::vector<std::pair<int32_t, int32_t>> left;  // particle pairs, matched to edges below
   for (const std::vector<int32_t>& trail : trails) {
+    // Whole, in the first layer where all its particles are free (and it meets none twice): so
+    // that a grid-like mesh's rows fill one layer and its columns the next, rather than each
+    // layer holding pieces of both.
+    bool placed = false;
+    if (static_cast<int>(trail.size()) - 1 >= min_length) {
+      bool simple = true;
+      for (int32_t p : trail) simple = simple && !in_run[p]++;
+      for (int32_t p : trail) in_run[p] = 0;
+      for (int f = 0; simple && f < max_layers && !placed; ++f) {
+        if (f == static_cast<int>(used.size())) {
+          used.emplace_back(n, 0);
+          cover.layers.emplace_back();
+        }
+        if (std::any_of(trail.begin(), trail.end(), [&](int32_t p) { return used[f][p] != 0; }))
+          continue;
+        for (int32_t p : trail) used[f][p] = 1;
+        cover.layers[f].push_back(trail);
+        placed = true;
+      }
+    }
+    if (placed) continue;
     std::vector<std::vector<int32_t>> pieces{trail};
     for (int f = 0; f < max_layers && !pieces.empty(); ++f) {
       if (f == static_cast<int>(used.size())) {
@@ -97,36 +118,41 @@ ChainCover cover_with_chains(const std::vector<Vec3>& x,
         cover.layers.emplace_back();
       }
       std::vector<std::vector<int32_t>> rest;
-      std::vector<int32_t> run;
-      auto close = [&] {
-        for (int32_t p : run) in_run[p] = 0;
-        if (static_cast<int>(run.size()) - 1 >= min_length) {
-          for (int32_t p : run) used[f][p] = 1;
-          cover.layers[f].push_back(run);
-        } else if (run.size() >= 2) {
-          rest.push_back(run);
-        }
-        run.clear();
-      };
       for (const std::vector<int32_t>& piece : pieces) {
+        // Edge k joins piece[k] and piece[k + 1]; a run of edges whose particles are free in
+        // this layer (and not met twice) becomes a chain if long enough.
+        std::vector<uint8_t> taken(piece.size(), 0);
+        size_t start = 0;  // the run's first particle
+        auto close = [&](size_t end) {  // the run is piece[start .. end]
+          for (size_t k = start; k <= end; ++k) in_run[piece[k]] = 0;
+          if (end >= start + static_cast<size_t>(min_length)) {
+            for (size_t k = start; k <= end; ++k) used[f][piece[k]] = 1;
+            for (size_t k = start; k < end; ++k) taken[k] = 1;
+            cover.layers[f].emplace_back(piece.begin() + start, piece.begin() + end + 1);
+          }
+        };
+        bool open = false;
         for (size_t k = 0; k + 1 < piece.size(); ++k) {
           const int32_t a = piece[k], b = piece[k + 1];
-          if (!run.empty() && !used[f][b] && !in_run[b]) {  // run.back() is a
-            run.push_back(b);
+          if (open && !used[f][b] && !in_run[b]) {
             in_run[b] = 1;
             continue;
           }
-          if (!run.empty()) close();
-          if (!used[f][a] && !used[f][b]) {
-            run = {a, b};
+          if (open) close(k);
+          open = !used[f][a] && !used[f][b];
+          if (open) {
+            start = k;
             in_run[a] = in_run[b] = 1;
-          } else {
-            rest.push_back({a, b});
           }
         }
-        close();
+        if (open) close(piece.size() - 1);
+        // The edges this layer did not take, in their runs, go on to the next.
+        for (size_t k = 0; k + 1 < piece.size(); ++k) {
+          if (taken[k]) continue;
+          if (k == 0 || taken[k - 1]) rest.push_back({piece[k]});
+          rest.back().push_back(piece[k + 1]);
+        }
       }
-      // Runs too short for a chain, and edges at a particle this layer holds, go on.
       pieces = std::move(rest);
     }
     for (const std::vector<int32_t>& piece : pieces)

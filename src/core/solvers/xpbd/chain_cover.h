@@ -24,8 +24,9 @@ struct ChainCover {
 /// Covers `edges` (particle pairs of the rest shape `x`) with chains in at most `max_layers`
 /// layers, none shorter than `min_length` edges. At each particle its edges are paired most
 /// opposite first (a chain continues as straight as it can, never turning by more than 60°);
-/// the paired edges form trails, which are cut into paths and laid into the first layer whose
-/// particles they leave free. Deterministic.
+/// the paired edges form trails, longest first, each laid whole into the first layer where all
+/// its particles are free (so a grid-like mesh's rows fill one layer and its columns the next),
+/// or else cut into the runs each layer has room for. Deterministic.
 ChainCover cover_with_chains(const std::vector<Vec3>& x,
                              const std::vector<std::pair<int32_t, int32_t>>& edges,
                              int max_layers, int min_length);

@@ -409,13 +409,15 @@ class MeshXpbd final : public Solver {
       const Lane dx = (b.bx - a.bx) + rx, dy = (b.by - a.by) + ry, dz = (b.bz - a.bz) + rz;
       Lane len2 = dx * dx + dy * dy + dz * dz, length;
       for (int l = 0; l < L; ++l) length[l] = std::sqrt(len2[l]);
-      const Lane inv = length > 0 ? Lane{} + 1 / length : Lane{};
       Lane r0;
       std::memcpy(&r0, rest + t * L, sizeof(Lane));
+      // A lane past its chain's end holds no constraint (rest length 0): no direction, so it is
+      // coupled to nothing, and no right-hand side, so its Δλ stays zero.
+      const Lane inv = r0 > 0 && length > 0 ? Lane{} + 1 / length : Lane{};
       const Lane ux = dx * inv, uy = dy * inv, uz = dz * inv, wsum = a.w + b.w;
       const ChainRowOf<Lane> c{
           ux, uy, uz, (1 + gamma) * wsum + alpha_tilde,
-          wsum > 0 ? -(length - r0) - gamma * (ux * rx + uy * ry + uz * rz) : Lane{}};
+          r0 > 0 && wsum > 0 ? -(length - r0) - gamma * (ux * rx + uy * ry + uz * rz) : Lane{}};
       const int q = e0 + t + 1;
       eliminate<Lane>(c, a.w, gamma, alpha_tilde * keep * lambda[q], nx, ny, nz, fe, g, inv_beta,
                       q - 1, q, q);
