@@ -46,42 +46,46 @@ void nearest_sources(const ClothModel& model, const std::vector<int32_t>& source
   nearest_source.assign(static_cast<size_t>(n) * k, -1);
   distance.assign(static_cast<size_t>(n) * k, 0.0);
   std::vector<int> found(n, 0);  // labels settled at each particle
-  // The settled distance from source s at particle p, or none.
-  auto settled = [&](int32_t p, int32_t s, double& d) {
+  // The slot of source s's label at particle p, or −1.
+  auto label = [&](int32_t p, int32_t s) {
     for (int t = 0; t < found[p]; ++t)
-      if (nearest_source[static_cast<size_t>(p) * k + t] == s) {
-        d = distance[static_cast<size_t>(p) * k + t];
-        return true;
-      }
-    return false;
+      if (nearest_source[static_cast<size_t>(p) * k + t] == s) return static_cast<size_t>(p) * k + t;
+    return static_cast<size_t>(-1);
   };
-  // Dijkstra with one label per (particle, source), each particle settling at most k of them,
-  // the nearest first. Ties break by particle then source, so the result is deterministic.
+  // Dijkstra with one label per (particle, source), each particle taking at most k of them, the
+  // nearest first. An unfolding can reach a particle through a triangle whose far corner settles
+  // after it, with a shorter distance than it settled at: the label is then corrected and
+  // spread again (label-correcting), so a flat cloth ends with its straight lines. Ties break by
+  // particle then source, so the result is deterministic.
   using Item = std::tuple<double, int32_t, int32_t>;  // distance, particle, source
   std::priority_queue<Item, std::vector<Item>, std::greater<>> queue;
   for (int32_t s : sources) queue.push({0.0, s, s});
   while (!queue.empty()) {
     const auto [d, p, s] = queue.top();
     queue.pop();
-    double known;
-    if (found[p] == k || settled(p, s, known)) continue;
-    const size_t slot = static_cast<size_t>(p) * k + found[p]++;
-    nearest_source[slot] = s;
+    size_t slot = label(p, s);
+    if (slot == static_cast<size_t>(-1)) {
+      if (found[p] == k) continue;
+      slot = static_cast<size_t>(p) * k + found[p]++;
+      nearest_source[slot] = s;
+    } else if (!(d < distance[slot] * (1.0 - 1e-12))) {
+      continue;  // no shorter than what it has
+    }
     distance[slot] = d;
     // Every triangle around p: its other corners u and w, each reached along its edge from p,
-    // or through the edge p–w from a corner w already settled for s.
+    // or through the edge p–w from a corner w that has a distance from s.
     for (int32_t t = model.vertex_triangle_begin[p]; t < model.vertex_triangle_begin[p + 1]; ++t) {
       const Triangle& tri = model.triangles[model.vertex_triangles[t]];
       for (int c = 0; c < 3; ++c) {
         const int32_t u = tri[c];
-        if (u == p || found[u] == k) continue;
-        double du;
-        if (settled(u, s, du)) continue;
+        if (u == p) continue;
         double best = d + (x[u] - x[p]).norm();
         const int32_t w = tri[0] + tri[1] + tri[2] - p - u;
-        double dw;
-        if (settled(w, s, dw)) best = std::min(best, through_edge(x[p], d, x[w], dw, x[u]));
-        queue.push({best, u, s});
+        if (const size_t at = label(w, s); at != static_cast<size_t>(-1))
+          best = std::min(best, through_edge(x[p], d, x[w], distance[at], x[u]));
+        const size_t mine = label(u, s);
+        if (mine != static_cast<size_t>(-1) ? best < distance[mine] * (1.0 - 1e-12) : found[u] < k)
+          queue.push({best, u, s});
       }
     }
   }
