@@ -20,13 +20,19 @@
 #include "long_range.h"
 #include "solvers/solver.h"
 #include "test_scenes.h"
+#include "variants.h"
 
 namespace drape {
 namespace {
 
 using testing_support::bench_scene;
 using testing_support::bare;
+using testing_support::kVariants;
 using testing_support::shipped;
+using testing_support::single;
+using testing_support::Variant;
+using testing_support::variant_name;
+using testing_support::with;
 
 Vec3 momentum(const Simulation& sim) {
   Vec3 p = Vec3::Zero();
@@ -141,37 +147,6 @@ TEST(ImplicitStep, SpringBlockOfACompressedSpringStaysPositiveSemiDefinite) {
 }
 
 // ---- Every new method -----------------------------------------------------------------------
-
-/// A method and the precision it steps in: every method in double, and xpbd in single too,
-/// and xpbd with its structural springs solved as rows and columns (solver.line_passes).
-struct Variant {
-  Method method;
-  Precision precision = Precision::f64;
-  int line_passes = 0;
-};
-const Variant kVariants[] = {{Method::symplectic},
-                             {Method::implicit},
-                             {Method::xpbd},
-                             {Method::fast},
-                             {Method::xpbd, Precision::f32},
-                             {Method::xpbd, Precision::f64, 3}};
-
-std::string variant_name(const ::testing::TestParamInfo<Variant>& p) {
-  return std::string(to_string(p.param.method)) +
-         (p.param.precision == Precision::f32 ? "_single" : "") +
-         (p.param.line_passes > 0 ? "_lines" : "");
-}
-
-SceneDef with(SceneDef def, const Variant& v) {
-  def.solver.method = v.method;
-  def.solver.precision = v.precision;
-  def.solver.line_passes = v.line_passes;
-  return def;
-}
-
-bool single(const Variant& v) {
-  return v.precision == Precision::f32;
-}
 
 class EachMethod : public ::testing::TestWithParam<Variant> {};
 
