@@ -18,6 +18,7 @@
 #include "app/runner.h"
 #include "app/terminal.h"
 #include "drape/error.h"
+#include "drape/mesh.h"
 #include "io/mesh_export.h"
 #include "io/scene_io.h"
 
@@ -28,7 +29,7 @@ namespace fs = std::filesystem;
 namespace {
 
 struct BenchOptions {
-  std::vector<std::string> scenes{"hang", "hang-lr", "drape"};
+  std::vector<std::string> scenes{"hang", "hang-lr", "drape", "drape-mesh"};
   std::vector<int> sizes{32, 64, 128, 256};
   std::vector<std::string> methods;                         // empty: all
   std::vector<std::string> precisions{"double", "single"};  // single: for xpbd only
@@ -94,6 +95,20 @@ bool rests_on(const Simulation& sim, const Collider& sphere) {
   return closest <= kMaxPenetration * sphere.radius && horizontal < sphere.radius;
 }
 
+// drape-mesh: the drape cloth (its size, place, mass and springs) as an irregular triangle mesh
+// of n × n vertices, each inner one jittered in the plane and each quad split along a diagonal
+// chosen at random (shapes::jittered_grid), generated here rather than read from a file.
+ClothDef irregular_drape(const ClothDef& grid, int n) {
+  ClothDef c = grid;
+  const ClothDef defaults;
+  c.width = defaults.width, c.height = defaults.height, c.cols = defaults.cols;
+  c.rows = defaults.rows, c.origin = defaults.origin, c.orientation = defaults.orientation;
+  c.mesh = std::make_shared<const ClothMesh>(shapes::jittered_grid(grid.width, n));
+  c.mesh_file = "drape-mesh-" + std::to_string(n);
+  c.transform.translate = grid.origin + Vec3(0.5 * grid.width, 0.0, 0.5 * grid.height);
+  return c;
+}
+
 // One run; `substeps` 0 leaves the count to the method.
 Row bench_one(const BenchOptions& o, const std::string& scene, int n, const Variant& v, int threads,
               int substeps, int stiff_sweeps, int line_passes) {
@@ -106,11 +121,11 @@ Row bench_one(const BenchOptions& o, const std::string& scene, int n, const Vari
 #ifdef _OPENMP
   omp_set_num_threads(threads);
 #endif
-  const bool long_range = scene == "hang-lr";
-  const std::string file = data_dir("bench") + "/scenes/" + (long_range ? "hang" : scene) + ".json";
-  std::vector<std::string> sets = {
-      "cloth.resolution=[" + std::to_string(n) + "," + std::to_string(n) + "]",
-      "solver.method=" + v.method, "solver.precision=" + v.precision};
+  const bool long_range = scene == "hang-lr", mesh = scene == "drape-mesh";
+  const std::string file = data_dir("bench") + "/scenes/" +
+                           (long_range ? "hang" : mesh ? "drape" : scene) + ".json";
+  std::vector<std::string> sets = {"solver.method=" + v.method, "solver.precision=" + v.precision};
+  if (!mesh) sets.push_back("cloth.resolution=[" + std::to_string(n) + "," + std::to_string(n) + "]");
   if (long_range) sets.push_back("cloth.long_range=true");
   if (substeps > 0) sets.push_back("solver.substeps=" + std::to_string(substeps));
   if (stiff_sweeps > 0) sets.push_back("solver.stiff_sweeps=" + std::to_string(stiff_sweeps));
@@ -119,7 +134,8 @@ Row bench_one(const BenchOptions& o, const std::string& scene, int n, const Vari
   row.line_passes = line_passes;
   std::optional<Simulation> sim;
   try {
-    const SceneDef def = io::load_scene(file, sets);
+    SceneDef def = io::load_scene(file, sets);
+    if (mesh) def.cloth = irregular_drape(def.cloth, n);
     check_memory(def);
     const auto t0 = std::chrono::steady_clock::now();
     sim.emplace(def);
@@ -228,20 +244,20 @@ Row bench_best(const BenchOptions& o, const std::string& scene, int n, const Var
 }
 
 void print_table(const std::vector<Row>& rows) {
-  std::printf("%-8s %5s %-11s %-6s %3s %8s %6s %5s %10s %9s %12s %6s %8s %8s %8s %8s %s\n",
+  std::printf("%-10s %5s %-11s %-6s %3s %8s %6s %5s %10s %9s %12s %6s %8s %8s %8s %8s %s\n",
               "scene", "N", "method", "prec", "thr", "substeps", "sweeps", "lines", "ms/frame",
               "p10-p90", "part·sub/s", "B/part", "strain1s", "strain", "p99", "penetr.",
               "quality");
   for (const Row& r : rows) {
     if (r.status.rfind("skipped", 0) == 0) {
-      std::printf("%-8s %5d %-11s %-6s %3d  %s\n", r.scene.c_str(), r.n, r.method.c_str(),
+      std::printf("%-10s %5d %-11s %-6s %3d  %s\n", r.scene.c_str(), r.n, r.method.c_str(),
                   r.precision.c_str(), r.threads, r.status.c_str());
       continue;
     }
     char spread[32];
     std::snprintf(spread, sizeof spread, "%.2f-%.2f", r.ms_p10, r.ms_p90);
     std::printf(
-        "%-8s %5d %-11s %-6s %3d %8d %6d %5d %10.3f %9s %12.3g %6.0f %7.2f%% %7.2f%% %7.2f%% "
+        "%-10s %5d %-11s %-6s %3d %8d %6d %5d %10.3f %9s %12.3g %6.0f %7.2f%% %7.2f%% %7.2f%% "
         "%7.2f%% %s\n",
         r.scene.c_str(), r.n, r.method.c_str(), r.precision.c_str(), r.threads, r.substeps,
         r.stiff_sweeps, r.line_passes, r.ms_median, spread, r.rate,
@@ -331,10 +347,10 @@ int bench(BenchOptions o) {
     return kExitBadInput;
   }
   for (const std::string& s : o.scenes) {
-    if (s != "hang" && s != "hang-lr" && s != "drape") {
+    if (s != "hang" && s != "hang-lr" && s != "drape" && s != "drape-mesh") {
       std::fprintf(stderr,
-                   "drape: error: --scenes: unknown scene \"%s\"; expected hang, hang-lr "
-                   "or drape\n",
+                   "drape: error: --scenes: unknown scene \"%s\"; expected hang, hang-lr, "
+                   "drape or drape-mesh\n",
                    s.c_str());
       return kExitBadInput;
     }
@@ -381,7 +397,9 @@ std::function<int()> add_bench_command(CLI::App& app) {
   auto o = std::make_shared<BenchOptions>();
   CLI::App* cmd = app.add_subcommand(
       "bench", "Time the standard scenes (bench/scenes) at several sizes, methods and threads");
-  cmd->add_option("--scenes", o->scenes, "Scenes: hang, hang-lr (long-range attachments), drape")
+  cmd->add_option("--scenes", o->scenes,
+                  "Scenes: hang, hang-lr (long-range attachments), drape, drape-mesh (drape's cloth "
+                  "as an irregular triangle mesh of N x N vertices)")
       ->delimiter(',');
   cmd->add_option("--sizes", o->sizes, "Grid sizes N (N×N particles)")
       ->delimiter(',')

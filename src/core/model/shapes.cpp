@@ -115,11 +115,13 @@ ClothMesh tube(double radius, double height, int around, int down) {
       m.positions.emplace_back(radius * std::cos(a), -height * r / (down - 1),
                                radius * std::sin(a));
     }
-  // Texture coordinates with a seam: column `around` repeats column 0 at u = 1.
+  // Texture coordinates with a seam (column `around` repeats column 0 at u = 1), v scaled as u
+  // is so that the texture's squares stay square: u = 1 is once round.
+  const double v_per_m = 1.0 / (kTwoPi * radius);
   for (int r = 0; r < down; ++r)
     for (int k = 0; k <= around; ++k)
       m.texcoords.emplace_back(static_cast<double>(k) / around,
-                               static_cast<double>(r) / (down - 1));
+                               1.0 - height * v_per_m * r / (down - 1));
   auto vertex = [&](int k, int r) { return r * around + k % around; };
   auto texcoord = [&](int k, int r) { return r * (around + 1) + k; };
   for (int r = 0; r + 1 < down; ++r)
@@ -158,7 +160,7 @@ ClothMesh flag(double width, double height, double notch, int cols, int rows) {
       if (x > fly_edge(y) + eps) continue;
       index[r * cols + c] = static_cast<int32_t>(m.positions.size());
       m.positions.emplace_back(x, y, 0.0);
-      uv.emplace_back(x / width, -y / height);
+      uv.emplace_back(x / width, 1.0 + y / width);  // v up, both in units of the width
     }
   auto at = [&](int c, int r) { return index[r * cols + c]; };
   for (int r = 0; r + 1 < rows; ++r)
