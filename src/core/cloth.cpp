@@ -10,6 +10,7 @@
 #include "drape/error.h"
 #include "model/model.h"
 #include "parallel.h"
+#include "random.h"
 
 namespace drape {
 
@@ -21,23 +22,6 @@ const char* to_string(SpringKind k) {
   }
   return "?";
 }
-
-namespace {
-
-// splitmix64: a tiny, well-mixed hash so the perturbation depends on the index alone.
-uint64_t mix(uint64_t z) {
-  z += 0x9e3779b97f4a7c15ULL;
-  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
-  z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
-  return z ^ (z >> 31);
-}
-
-// Uniform in [-1, 1), from the particle index.
-double jitter(int64_t index) {
-  return static_cast<double>(mix(static_cast<uint64_t>(index)) >> 11) * 0x1.0p-52 - 1.0;
-}
-
-}  // namespace
 
 ClothModel build_model(const ClothDef& def) {
   return def.mesh ? model::from_mesh(def) : model::grid(def);
@@ -113,7 +97,7 @@ ClothState initial_state(const ClothDef& def, const ClothModel& model) {
   update_normals(model, s);
   const double amplitude = def.perturbation * model.mean_edge;
   for (int32_t i = 0; i < n; ++i) {
-    if (!s.pinned[i]) s.x[i] += amplitude * jitter(i) * s.normal[i];
+    if (!s.pinned[i]) s.x[i] += amplitude * uniform_from(static_cast<uint64_t>(i)) * s.normal[i];
     s.anchor[i] = s.x[i];
   }
   update_normals(model, s);

@@ -5,6 +5,7 @@
 #include <numbers>
 
 #include "drape/mesh.h"
+#include "random.h"
 
 namespace drape::shapes {
 
@@ -12,17 +13,9 @@ namespace {
 
 constexpr double kTwoPi = 2.0 * std::numbers::pi;
 
-// splitmix64: a well-mixed hash, so a shape depends on its seed and sizes alone.
-uint64_t mix(uint64_t z) {
-  z += 0x9e3779b97f4a7c15ULL;
-  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
-  z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
-  return z ^ (z >> 31);
-}
-
 // Uniform in [-1, 1), from a seed and an index.
 double uniform(uint64_t seed, uint64_t index) {
-  return static_cast<double>(mix(mix(seed) ^ index) >> 11) * 0x1.0p-52 - 1.0;
+  return uniform_from(splitmix64(seed) ^ index);
 }
 
 // Turns every triangle to face `front` (the shapes below know where their front is).

@@ -111,18 +111,21 @@ struct SweepSet {
 /// One layer of the chain cover, its chains in groups of kLanes side by side (longest first, so
 /// that a group's chains are of about one length). Group G has `length[G]` constraints; its
 /// chains' particles are slot[(first[G] + t)·L + l] for t ≤ length[G] and lane l, padded with
-/// the still slot; its recurrence entries are first[G] + G·2 + 0 … length[G] + 1 (one before
-/// the first constraint and one after the last, never written, end them).
+/// the still slot, and constraint t's rest length is rest[(first[G] + t)·L + l] (0 where a lane
+/// has none); its recurrence entries are entry[G] … entry[G] + length[G] + 1 (one before the
+/// first constraint and one after the last, never written, end the recurrences).
 template <typename Real>
 struct ChainLayer {
   using Lane = typename Lanes<Real>::Vec;
   static constexpr int L = Lanes<Real>::kLanes;
   std::vector<int32_t> first, length, entry;  ///< per group; entry: its first recurrence entry
   AlignedVector<int32_t> slot;                ///< per group, particle and lane
+  AlignedVector<Real> rest;                   ///< per group, constraint and lane, m
   ChainScratch<Lane> scratch;                 ///< per recurrence entry
   AlignedVector<Lane> dl;                     ///< per recurrence entry: ω·Δλ of the last pass
 
-  void build(std::vector<std::vector<int32_t>> chains, int32_t still) {
+  void build(std::vector<std::vector<int32_t>> chains, int32_t still,
+             const std::vector<Vec3>& rest_position) {
     std::stable_sort(chains.begin(), chains.end(),
                      [](const auto& a, const auto& b) { return a.size() > b.size(); });
     first.clear(), length.clear(), entry.clear(), slot.clear();
@@ -141,12 +144,18 @@ struct ChainLayer {
                              : still);
         }
     }
+    rest.assign(slot.size(), Real(0));
+    for (size_t at = 0; at + L < slot.size(); ++at) {
+      const int32_t a = slot[at], b = slot[at + L];
+      if (a != still && b != still)
+        rest[at] = static_cast<Real>((rest_position[b] - rest_position[a]).norm());
+    }
     scratch.prepare(entries);
     dl.assign(entries, Lane{});
   }
   int groups() const { return static_cast<int>(first.size()); }
   int64_t bytes() const {
-    return heap_bytes(first, length, entry, slot, dl) + scratch.bytes();
+    return heap_bytes(first, length, entry, slot, rest, dl) + scratch.bytes();
   }
 };
 
@@ -317,7 +326,7 @@ class MeshXpbd final : public Solver {
       }
       if (solved.empty()) continue;
       layers_.emplace_back();
-      layers_.back().build(std::move(solved), still_);
+      layers_.back().build(std::move(solved), still_, m.rest_position);
     }
     left_over_.build(m, [&](const Spring&, int32_t k) { return swept[k] != 0; });
     // Every structural spring of the cover has the scene's one stiffness, rest length aside;
@@ -328,19 +337,6 @@ class MeshXpbd final : public Solver {
         structural_ = {s.stiffness, s.damping};
         break;
       }
-    chain_rest_.clear();
-    for (ChainLayer<Real>& layer : layers_) {
-      chain_rest_.emplace_back(layer.slot.size(), Real(0));
-      AlignedVector<Real>& rest = chain_rest_.back();
-      for (int G = 0; G < layer.groups(); ++G)
-        for (int32_t t = 0; t < layer.length[G]; ++t)
-          for (int l = 0; l < L; ++l) {
-            const size_t at = (size_t(layer.first[G]) + t) * L + l;
-            const int32_t a = layer.slot[at], b = layer.slot[at + L];
-            if (a == still_ || b == still_) continue;
-            rest[at] = static_cast<Real>((m.rest_position[b] - m.rest_position[a]).norm());
-          }
-    }
     return true;
   }
 
@@ -359,19 +355,18 @@ class MeshXpbd final : public Solver {
   void solve_chains(Real h, bool first, Real omega) {
     const auto [alpha_tilde, gamma] =
         Compliance<Real>::of(structural_.stiffness, structural_.damping, h);
-    for (size_t f = 0; f < layers_.size(); ++f) {
-      ChainLayer<Real>& layer = layers_[f];
+    for (ChainLayer<Real>& layer : layers_) {
 #pragma omp for schedule(static)
       for (int G = 0; G < layer.groups(); ++G)
-        solve_group(layer, chain_rest_[f], G, alpha_tilde, gamma, first, omega);
+        solve_group(layer, G, alpha_tilde, gamma, first, omega);
     }
     if (!left_over_.empty()) left_over_.template sweep<false>(particles_, h, true);
   }
 
   // The chains of group G: each constraint's row from the particles (gathered lane by lane),
   // eliminated as it comes; the substitution back; the moves, lane by lane.
-  void solve_group(ChainLayer<Real>& layer, const AlignedVector<Real>& chain_rest, int G,
-                   Real alpha_tilde, Real gamma, bool first, Real omega) {
+  void solve_group(ChainLayer<Real>& layer, int G, Real alpha_tilde, Real gamma, bool first,
+                   Real omega) {
     const Real *__restrict bx = particles_.base.x.data(), *__restrict by = particles_.base.y.data(),
                            *__restrict bz = particles_.base.z.data();
     Real *__restrict mx = particles_.move.x.data(), *__restrict my = particles_.move.y.data(),
@@ -383,7 +378,7 @@ class MeshXpbd final : public Solver {
     Lane *__restrict fe = cs.f.data(), *__restrict g = cs.g.data(),
                      *__restrict inv_beta = cs.inv_beta.data(), *__restrict lambda = cs.lambda.data();
     const int32_t* __restrict slot = layer.slot.data() + size_t(layer.first[G]) * L;
-    const Real* __restrict rest = chain_rest.data() + size_t(layer.first[G]) * L;
+    const Real* __restrict rest = layer.rest.data() + size_t(layer.first[G]) * L;
     const int len = layer.length[G], e0 = layer.entry[G];
     const Real keep = first ? Real(0) : Real(1);
     // Particle t of every lane, gathered.
@@ -463,7 +458,6 @@ class MeshXpbd final : public Solver {
   bool lines_ = false;
   SpringParams structural_;                     ///< the chains' springs' stiffness and damping
   std::vector<ChainLayer<Real>> layers_;        ///< the chain cover's layers
-  std::vector<AlignedVector<Real>> chain_rest_;  ///< per layer, like its slots: rest lengths
   SweepSet<Real> left_over_;                    ///< structural springs in no solved chain
 };
 
