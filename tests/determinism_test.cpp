@@ -10,6 +10,7 @@
 #include <omp.h>
 #endif
 
+#include "shipped_scenes.h"
 #include "drape/simulation.h"
 #include "io/scene_io.h"
 #include "test_scenes.h"
@@ -41,7 +42,7 @@ uint64_t run(SceneDef def, int frames) {
 }
 
 TEST(Determinism, EachShippedSceneAndMethodHashesTheSameTwice) {
-  for (const char* name : {"hang", "wind", "sphere", "ground"}) {
+  for (const std::string& name : testing_support::shipped_scene_names()) {
     for (Method method : kAllMethods) {
       SceneDef def = shipped(name);
       def.solver.method = method;

@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "shipped_scenes.h"
 #include "drape/error.h"
 #include "io/scene_io.h"
 
@@ -47,7 +48,7 @@ TEST(SceneFiles, TheDefaultSceneIsTheHangScene) {
 }
 
 TEST(SceneFiles, RoundTripThroughJsonIsExact) {
-  for (const char* name : {"hang", "wind", "sphere", "ground"}) {
+  for (const std::string& name : testing_support::shipped_scene_names()) {
     const SceneDef a = io::load_scene(scene_path(name));
     const json ja = io::to_json(a);
     EXPECT_EQ(io::to_json(io::parse_scene(ja, name)), ja) << name;

@@ -17,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "shipped_scenes.h"
 #include "stb_image.h"
 #include "temp_dir.h"
 
@@ -115,7 +116,7 @@ class ViewerSmoke : public drape::testing_support::TempDirTest {
 TEST_F(ViewerSmoke, EveryShippedSceneShowsTheClothInTheViewer) {
   const std::string prefix = display_prefix();
   if (prefix.empty()) GTEST_SKIP() << "no display: DISPLAY is not set and xvfb-run is missing";
-  for (const char* name : {"hang", "wind", "sphere", "ground"}) {
+  for (const std::string& name : drape::testing_support::shipped_scene_names()) {
     const std::string shot = path(std::string(name) + ".png");
     const Result r = shell(prefix + DRAPE_EXE + " view " + scene(name) +
                            " --frames 45 --size 800x500 --screenshot " + shot);
@@ -134,7 +135,7 @@ TEST_F(ViewerSmoke, EveryShippedSceneShowsTheClothInTheViewer) {
 }
 
 TEST_F(ViewerSmoke, EveryShippedSceneRendersThroughEgl) {
-  for (const char* name : {"hang", "wind", "sphere", "ground"}) {
+  for (const std::string& name : drape::testing_support::shipped_scene_names()) {
     const std::string out = path(name);
     const Result r = shell(std::string(DRAPE_EXE) + " render " + scene(name) +
                            " --frames 40 --every 20 --size 400x300 --quiet --out " + out);

@@ -68,20 +68,22 @@ void write_obj(FILE* f, const ClothModel& m, const ClothState& s) {
 }
 
 void write_ply(FILE* f, const ClothModel& m, const ClothState& s) {
+  // Texture coordinates per vertex (PLY has no per-corner ones: a seam's vertex keeps its first
+  // corner's), and only for a cloth that had them.
+  const bool uv = m.has_texcoords;
   std::fprintf(f,
                "ply\nformat binary_little_endian 1.0\ncomment drape cloth\n"
                "element vertex %d\n"
                "property float x\nproperty float y\nproperty float z\n"
-               "property float nx\nproperty float ny\nproperty float nz\n"
-               "property float s\nproperty float t\n"
+               "property float nx\nproperty float ny\nproperty float nz\n%s"
                "element face %zu\nproperty list uchar int vertex_indices\nend_header\n",
-               m.size(), m.triangles.size());
+               m.size(), uv ? "property float s\nproperty float t\n" : "", m.triangles.size());
   static_assert(std::endian::native == std::endian::little, "PLY writer assumes little endian");
   for (int32_t i = 0; i < m.size(); ++i) {
     const float v[8] = {float(s.x[i].x()),      float(s.x[i].y()),      float(s.x[i].z()),
                         float(s.normal[i].x()), float(s.normal[i].y()), float(s.normal[i].z()),
                         float(m.uv[i].x()),     float(1.0 - m.uv[i].y())};
-    std::fwrite(v, sizeof v, 1, f);
+    std::fwrite(v, sizeof(float), uv ? 8 : 6, f);
   }
   for (const Triangle& t : m.triangles) {
     const unsigned char three = 3;
