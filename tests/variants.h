@@ -1,5 +1,5 @@
-// The methods every method-wide test runs: each method in double, xpbd in single too, and xpbd
-// with its structural springs solved as chains (solver.line_passes).
+// The methods every method-wide test runs: each method in double, xpbd in single too, xpbd
+// with its structural springs solved as chains (solver.line_passes), and auto.
 #pragma once
 
 #include <string>
@@ -21,7 +21,8 @@ inline const Variant kVariants[] = {{Method::symplectic},
                                     {Method::xpbd},
                                     {Method::fast},
                                     {Method::xpbd, Precision::f32},
-                                    {Method::xpbd, Precision::f64, 3}};
+                                    {Method::xpbd, Precision::f64, 3},
+                                    {Method::automatic}};
 
 inline std::string variant_name(const ::testing::TestParamInfo<Variant>& p) {
   return std::string(to_string(p.param.method)) +
@@ -37,8 +38,9 @@ inline SceneDef with(SceneDef def, const Variant& v) {
   return def;
 }
 
+/// Whether the variant steps in single precision (auto chooses it).
 inline bool single(const Variant& v) {
-  return v.precision == Precision::f32;
+  return v.precision == Precision::f32 || v.method == Method::automatic;
 }
 
 }  // namespace drape::testing_support

@@ -126,11 +126,14 @@ enum class Method : uint8_t {
   symplectic,  ///< semi-implicit Euler with automatic stable substeps (the seed's update)
   implicit,    ///< backward Euler, one Newton step per substep, filtered PCG (Baraff–Witkin)
   xpbd,        ///< extended position-based dynamics, many substeps (Macklin et al. 2016, 2019)
-  fast         ///< local/global implicit Euler on a prefactored matrix (Liu et al. 2013)
+  fast,        ///< local/global implicit Euler on a prefactored matrix (Liu et al. 2013)
+  /// "auto": chooses a method and its settings for the scene, and adapts them while it runs
+  /// to keep the structural strain within solver.tolerance at the least cost
+  automatic
 };
 /// Every method, in the order tables list them.
 inline constexpr Method kAllMethods[] = {Method::symplectic, Method::implicit, Method::xpbd,
-                                         Method::fast};
+                                         Method::fast, Method::automatic};
 
 /// The floating-point type a solver keeps the cloth in while it steps.
 enum class Precision : uint8_t {
@@ -167,6 +170,9 @@ struct SolverDef {
   /// fast: spectral radius estimate for Chebyshev acceleration (Wang 2015), in [0, 1);
   /// 0 = automatic (from stiffness, mass and step).
   double chebyshev_rho = 0.0;
+  /// auto: the largest structural strain |length/rest − 1| accepted, which it holds by raising
+  /// and lowering its effort; in [1e-4, 1].
+  double tolerance = 0.01;
 };
 
 struct SceneDef {

@@ -30,6 +30,19 @@ struct Diagnostics {
   bool finite = true;            ///< every position and velocity is finite
 };
 
+/// What the auto method chose for the scene and how it adapted: the method and settings it
+/// steps with now, and how often it raised and lowered its effort.
+struct AutoChoice {
+  Method method = Method::xpbd;
+  Precision precision = Precision::f32;
+  int substeps = 0;      ///< per frame
+  int line_passes = 0;   ///< xpbd's solver.line_passes
+  int stiff_sweeps = 0;  ///< xpbd's solver.stiff_sweeps
+  int raises = 0;        ///< times it raised its effort
+  int lowers = 0;        ///< times it lowered it
+  double strain = 0.0;   ///< the largest structural strain after the last frame
+};
+
 /// Heap memory the simulation holds, in bytes (vectors counted by capacity).
 struct MemoryUse {
   int64_t state = 0;      ///< positions, velocities, pins, normals, areas
@@ -71,6 +84,8 @@ class Simulation {
   int64_t frame() const { return frame_; }
   double time() const { return static_cast<double>(frame_) * def_.solver.dt; }
   int substeps_per_frame() const;
+  /// With solver.method "auto": what it chose and how it adapted; null otherwise.
+  const AutoChoice* auto_choice() const;
   const SceneDef& def() const { return def_; }
   const ClothModel& model() const { return model_; }
   const ClothState& state() const { return state_; }

@@ -18,6 +18,8 @@ const char* to_string(Method m) {
       return "xpbd";
     case Method::fast:
       return "fast";
+    case Method::automatic:
+      return "auto";
   }
   return "?";
 }
@@ -206,6 +208,21 @@ void check(const SceneDef& def) {
 
   const SolverDef& s = def.solver;
   range(s.dt, 1e-6, 0.1, "solver.dt");
+  if (s.method == Method::automatic) {
+    // auto sets these itself; a value asked for would be silently replaced.
+    const SolverDef defaults;
+    auto chosen = [&](bool set, const char* key) {
+      require(!set, std::string("solver.") + key,
+              "is chosen by the auto method itself; remove it, or pick a method (e.g. \"xpbd\") "
+              "to set it");
+    };
+    chosen(s.precision != defaults.precision, "precision");
+    chosen(s.substeps != defaults.substeps, "substeps");
+    chosen(s.iterations != defaults.iterations, "iterations");
+    chosen(s.stiff_sweeps != defaults.stiff_sweeps, "stiff_sweeps");
+    chosen(s.line_passes != defaults.line_passes, "line_passes");
+  }
+  range(s.tolerance, 1e-4, 1.0, "solver.tolerance");
   require(s.precision == Precision::f64 || s.method == Method::xpbd, "solver.precision",
           std::string("\"single\" is implemented by the xpbd method only, not by ") +
               to_string(s.method) + "; use \"double\" or solver.method \"xpbd\"");

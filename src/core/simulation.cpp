@@ -34,6 +34,7 @@ Simulation::Simulation(Simulation&&) noexcept = default;
 Simulation& Simulation::operator=(Simulation&&) noexcept = default;
 
 int Simulation::substeps_per_frame() const { return solver_->substeps(); }
+const AutoChoice* Simulation::auto_choice() const { return solver_->auto_choice(); }
 
 void Simulation::prepare_solver() {
   World world{model_, state_, def_.forces, colliders_, time(), *attachments_};
@@ -66,6 +67,8 @@ const char* divergence_hint(Method m) {
       return "try more solver.substeps or solver.iterations, or a smaller solver.dt";
     case Method::fast:
       return "try more solver.iterations, more solver.substeps, or the implicit method";
+    case Method::automatic:
+      return "try a smaller solver.dt or a larger solver.max_substeps";
   }
   return "";
 }
@@ -136,6 +139,7 @@ int64_t estimated_memory(const SceneDef& def) {
   switch (def.solver.method) {
     case Method::symplectic: workspace = 64; break;
     case Method::xpbd: workspace = def.solver.line_passes > 0 ? 384 : 192; break;
+    case Method::automatic: workspace = 384 + 24; break;  // xpbd's with line passes, its springs
     case Method::implicit: workspace = 1024; break;
     case Method::fast:
       workspace = std::max<int64_t>(1024, 128 * static_cast<int64_t>(std::log2(double(n) + 1)));

@@ -409,6 +409,7 @@ SceneDef parse_scene(const json& j, const std::string& source, const std::string
       r.number("cg_tolerance", def.solver.cg_tolerance);
       r.integer("cg_max_iterations", def.solver.cg_max_iterations);
       r.number("chebyshev_rho", def.solver.chebyshev_rho);
+      r.number("tolerance", def.solver.tolerance);
       r.finish();
     }
     top.number("duration", def.duration);
@@ -551,7 +552,8 @@ json to_json(const SceneDef& d) {
         {"line_relaxation", d.solver.line_relaxation},
         {"cg_tolerance", d.solver.cg_tolerance},
         {"cg_max_iterations", d.solver.cg_max_iterations},
-        {"chebyshev_rho", d.solver.chebyshev_rho}}},
+        {"chebyshev_rho", d.solver.chebyshev_rho},
+        {"tolerance", d.solver.tolerance}}},
       {"duration", d.duration}};
 }
 

@@ -15,6 +15,7 @@ std::unique_ptr<Solver> make_solver(const SolverDef& def, const ClothModel& mode
     case Method::xpbd:
       return model.grid.present() ? make_grid_xpbd(def.precision) : make_mesh_xpbd(def.precision);
     case Method::fast: return make_fast();
+    case Method::automatic: return make_auto();
   }
   return nullptr;
 }

@@ -9,6 +9,7 @@
 #include "drape/cloth.h"
 #include "drape/collider.h"
 #include "drape/scene.h"
+#include "drape/simulation.h"
 
 namespace drape {
 
@@ -46,6 +47,8 @@ class Solver {
   /// of convergence (their leftover stretch is solver error), so the divergence watch leaves
   /// spring energy out of its budget for them and watches kinetic energy.
   virtual bool stretch_is_energy() const { return false; }
+  /// What the auto method chose and how often it changed it; null for the other methods.
+  virtual const AutoChoice* auto_choice() const { return nullptr; }
 };
 
 /// The method def.method names, for this model (xpbd has a path of its own for grids).
@@ -65,6 +68,7 @@ std::unique_ptr<Solver> make_implicit();
 std::unique_ptr<Solver> make_grid_xpbd(Precision precision);
 std::unique_ptr<Solver> make_mesh_xpbd(Precision precision);
 std::unique_ptr<Solver> make_fast();
+std::unique_ptr<Solver> make_auto();
 
 /// The largest explicit step h with h²ω² + 2hγ < 4, where ω² = max_i Σ_s 2k_s/m_i and
 /// γ = max_i Σ_s 2c_s/m_i over the springs s at each free particle i (Gershgorin bounds on the

@@ -1,0 +1,176 @@
+// `auto`: the method a user gets who says what they want (the largest structural strain they
+// accept, solver.tolerance) rather than how to get it. It steps with xpbd in single precision
+// (the fastest method here at every size and shape, its strain resolved to ~1e-6, far below any
+// tolerance) and keeps the cheapest effort that holds the tolerance: after every frame it
+// measures the largest structural strain, raises its effort a step on a ladder of settings when
+// the strain nears the tolerance, and lowers it a step after a calm second.
+//
+// The ladder: where line passes may run (no pin, or the pins' long-range attachments on) the
+// bench's configurations, 4 substeps of 2 to 6 passes with 0 to 2 stiff sweeps after them, then
+// more substeps; elsewhere (a pinned cloth without attachments: auto may not turn them on, which
+// would change the physics) substeps with two stiff sweeps each, from xpbd's automatic count.
+// A step down that has to be taken back within kProbation frames marks the level below as too
+// low for good (a floor), so the settings settle instead of see-sawing.
+#include <algorithm>
+#include <cmath>
+
+#include "drape/error.h"
+#include "drape/simulation.h"
+#include "long_range.h"
+#include "parallel.h"
+#include "solver.h"
+#include "xpbd/xpbd.h"
+
+namespace drape {
+
+namespace {
+
+struct Effort {
+  int substeps, line_passes, stiff_sweeps;
+};
+
+// Cheapest first: a stiff sweep after the passes costs a fifth of a pass at 256², half at 128²
+// (README, Performance).
+constexpr Effort kLineLadder[] = {{4, 2, 0}, {4, 2, 1}, {4, 2, 2}, {4, 3, 1}, {4, 3, 2},
+                                  {4, 4, 1}, {4, 4, 2}, {4, 5, 2}, {4, 6, 2}, {6, 6, 2},
+                                  {9, 6, 2}, {14, 6, 2}, {21, 6, 2}, {32, 6, 2}};
+constexpr int kLineStart = 5;  // 4 + 4 lines + 1 sweep: what the bench's drape needs at 128², 256²
+constexpr int kSubstepLadder[] = {4,   6,   9,   14,  21,  32,   48,   72,  108,
+                                  162, 243, 365, 548, 822, 1233, 1850, 2775};
+constexpr int kSweepsWithSubsteps = 2;
+
+constexpr double kRaise = 0.8;   // raise the effort when the strain passes this share of the tolerance
+constexpr double kLower = 0.4;   // and lower it after a calm second below this share
+constexpr int kCalmFrames = 60;  // a second at 60 frames a second
+constexpr int kProbation = 120;  // a step down taken back within this many frames was one too far
+
+class AutoSolver final : public Solver {
+ public:
+  void prepare(const World& w, const SolverDef& def) override {
+    def_ = def;
+    const ClothModel& m = w.model;
+    spring_i_.clear(), spring_j_.clear(), inv_rest_.clear();
+    for (const Spring& s : m.springs) {
+      if (s.kind != SpringKind::structural) continue;
+      spring_i_.push_back(s.i);
+      spring_j_.push_back(s.j);
+      inv_rest_.push_back(1.0 / s.rest);
+    }
+    bool pinned = false;
+    for (int32_t i = 0; i < m.size() && !pinned; ++i) pinned = w.state.pinned[i] != 0;
+    const bool lines = !pinned || w.attachments.active();
+    // A new plan when the kind of ladder changes (pins or attachments changed); the level
+    // reached is kept through the preparations the hand, pins and settings cause.
+    if (!planned_ || lines != lines_) {
+      lines_ = lines;
+      ladder_.clear();
+      if (lines) {
+        ladder_.assign(std::begin(kLineLadder), std::end(kLineLadder));
+        level_ = kLineStart;
+      } else {
+        for (int s : kSubstepLadder) ladder_.push_back({s, 0, kSweepsWithSubsteps});
+        // Start where xpbd's own rule (m/h² ≥ k for every spring) puts it, or at the top.
+        int start = def.max_substeps;
+        try {
+          start = xpbd::automatic_substeps(w, def, [](const Spring&) { return true; });
+        } catch (const InputError&) {
+        }
+        level_ = 0;
+        while (level_ + 1 < static_cast<int>(ladder_.size()) && ladder_[level_].substeps < start)
+          ++level_;
+      }
+      // Never past solver.max_substeps.
+      while (ladder_.size() > 1 && ladder_.back().substeps > def.max_substeps) ladder_.pop_back();
+      if (ladder_.back().substeps > def.max_substeps)
+        throw InputError("solver.max_substeps",
+                         "is " + std::to_string(def.max_substeps) +
+                             ", fewer substeps than the auto method's least (" +
+                             std::to_string(ladder_.back().substeps) + ")");
+      level_ = std::min(level_, static_cast<int>(ladder_.size()) - 1);
+      floor_ = 0, calm_ = 0, probation_ = 0;
+      planned_ = true;
+    }
+    if (!inner_)
+      inner_ = m.grid.present() ? make_grid_xpbd(Precision::f32) : make_mesh_xpbd(Precision::f32);
+    apply(w);
+  }
+
+  void step_frame(World& w, double dt) override {
+    inner_->step_frame(w, dt);
+    choice_.strain = max_strain(w.state.x);
+    const double tolerance = def_.tolerance;
+    if (probation_ > 0) --probation_;
+    const int top = static_cast<int>(ladder_.size()) - 1;
+    if (choice_.strain > kRaise * tolerance) {
+      calm_ = 0;
+      if (level_ < top) {
+        ++level_;
+        if (probation_ > 0) floor_ = std::max(floor_, level_);
+        probation_ = 0;
+        ++choice_.raises;
+        apply(w);
+      }
+    } else if (choice_.strain < kLower * tolerance) {
+      if (++calm_ >= kCalmFrames && level_ > floor_) {
+        --level_;
+        calm_ = 0;
+        probation_ = kProbation;
+        ++choice_.lowers;
+        apply(w);
+      }
+    } else {
+      calm_ = 0;
+    }
+  }
+
+  void state_changed() override { inner_->state_changed(); }
+  int substeps() const override { return inner_->substeps(); }
+  int64_t workspace_bytes() const override {
+    return inner_->workspace_bytes() + heap_bytes(spring_i_, spring_j_, inv_rest_, ladder_);
+  }
+  const AutoChoice* auto_choice() const override { return &choice_; }
+
+ private:
+  // Prepares xpbd with the ladder's settings at level_.
+  void apply(const World& w) {
+    const Effort& e = ladder_[level_];
+    SolverDef d = def_;
+    d.method = Method::xpbd;
+    d.precision = Precision::f32;
+    d.substeps = e.substeps;
+    d.line_passes = e.line_passes;
+    d.stiff_sweeps = e.stiff_sweeps;
+    inner_->prepare(w, d);
+    choice_.method = Method::xpbd;
+    choice_.precision = Precision::f32;
+    choice_.substeps = e.substeps;
+    choice_.line_passes = e.line_passes;
+    choice_.stiff_sweeps = e.stiff_sweeps;
+  }
+
+  // The largest structural strain |length/rest − 1|: a maximum, the same for any thread count.
+  double max_strain(const std::vector<Vec3>& x) const {
+    const int64_t n = static_cast<int64_t>(spring_i_.size());
+    double worst = 0.0;
+#pragma omp parallel for schedule(static) reduction(max : worst) if (worth_threads(n))
+    for (int64_t k = 0; k < n; ++k)
+      worst = std::max(worst,
+                       std::abs((x[spring_j_[k]] - x[spring_i_[k]]).norm() * inv_rest_[k] - 1.0));
+    return worst;
+  }
+
+  SolverDef def_;
+  std::unique_ptr<Solver> inner_;
+  std::vector<int32_t> spring_i_, spring_j_;  ///< the structural springs, whose strain is held
+  std::vector<double> inv_rest_;
+  bool planned_ = false, lines_ = false;
+  std::vector<Effort> ladder_;
+  int level_ = 0, floor_ = 0, calm_ = 0, probation_ = 0;
+  AutoChoice choice_;
+};
+
+}  // namespace
+
+std::unique_ptr<Solver> make_auto() { return std::make_unique<AutoSolver>(); }
+
+}  // namespace drape
