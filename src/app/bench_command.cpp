@@ -18,7 +18,7 @@
 #include "app/runner.h"
 #include "app/terminal.h"
 #include "drape/error.h"
-#include "io/mesh_export.h"
+#include "io/atomic_file.h"
 #include "io/scene_io.h"
 
 namespace drape::app {

@@ -14,6 +14,7 @@
 #include "app/runner.h"
 #include "app/terminal.h"
 #include "drape/error.h"
+#include "io/atomic_file.h"
 #include "io/mesh_export.h"
 #include "io/scene_io.h"
 
