@@ -11,8 +11,10 @@
 
 namespace drape {
 
+/// What a spring stands for in the grid (see ClothDef): structural (right and lower neighbour),
+/// shear (quad diagonals), bending (two steps right and two down).
 enum class SpringKind : uint8_t { structural, shear, bending };
-inline constexpr int kSpringKinds = 3;
+inline constexpr int kSpringKinds = 3;  ///< how many kinds there are
 const char* to_string(SpringKind k);
 
 /// A spring between particles i and j. Force on i: k(|d| − L)·d̂ + c((v_j − v_i)·d̂)·d̂ with
@@ -26,12 +28,13 @@ struct Spring {
   SpringKind kind = SpringKind::structural;
 };
 
+/// Three particle indices.
 using Triangle = std::array<int32_t, 3>;
 
 /// What does not change while the cloth moves.
 struct ClothModel {
-  int cols = 0;
-  int rows = 0;
+  int cols = 0;  ///< particles per row of the grid
+  int rows = 0;  ///< particles per column of the grid
   /// Springs grouped by colour: no two springs of one colour share a particle, so each colour
   /// can be processed in parallel without atomics and in a fixed order (deterministic results
   /// for any thread count). Colour c holds springs [colour_begin[c], colour_begin[c + 1]).
