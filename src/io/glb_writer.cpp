@@ -283,7 +283,7 @@ void GlbWriter::finish() {
   const size_t bin_bytes = padded(weights_origin + weights_bytes);
   json gltf{{"asset", {{"version", "2.0"}, {"generator", generator_}}},
             {"scene", 0},
-            {"scenes", {{{"name", name_}, {"nodes", json::array()}}}},
+            {"scenes", {{{"nodes", json::array()}}}},
             {"nodes", nodes},
             {"meshes", meshes},
             {"materials",
