@@ -115,6 +115,7 @@ class PySimulation {
   }
 
   py::dict stats() const {
+    Busy busy(*this);
     io::RunResult r = record_;
     r.status = sim_->diverged() ? io::RunStatus::diverged : io::RunStatus::ok;
     r.frames = sim_->frame();
@@ -151,19 +152,20 @@ class PySimulation {
 
  private:
   // Stepping runs without the GIL, so another Python thread could call in meanwhile: calls that
-  // change the simulation are refused until the step is done, rather than race it.
+  // change the simulation or read more than one figure of it are refused until the step is
+  // done, rather than race it.
   struct Busy {
-    explicit Busy(PySimulation& s) : self(s) {
+    explicit Busy(const PySimulation& s) : self(s) {
       if (self.busy_.exchange(true))
         throw std::runtime_error("the simulation is stepping in another thread");
     }
     ~Busy() { self.busy_ = false; }
-    PySimulation& self;
+    const PySimulation& self;
   };
 
   std::optional<Simulation> sim_;
   io::RunResult record_;
-  std::atomic<bool> busy_{false};
+  mutable std::atomic<bool> busy_{false};
 };
 
 // A read-only (rows, 3) view on `data`, kept alive by `owner`.
@@ -226,7 +228,7 @@ PYBIND11_MODULE(drape, m) {
           "positions",
           [](const py::object& self) {
             const auto& x = self.cast<const PySimulation&>().sim().state().x;
-            return view(x.front().data(), x.size(), self);
+            return view(reinterpret_cast<const double*>(x.data()), x.size(), self);
           },
           "Particle positions in m: a read-only float64 array (n, 3), a view on the live state "
           "(no copy; it changes as the simulation steps; copy() it to keep a frame).")
@@ -234,14 +236,14 @@ PYBIND11_MODULE(drape, m) {
           "velocities",
           [](const py::object& self) {
             const auto& v = self.cast<const PySimulation&>().sim().state().v;
-            return view(v.front().data(), v.size(), self);
+            return view(reinterpret_cast<const double*>(v.data()), v.size(), self);
           },
           "Particle velocities in m/s: a read-only float64 array (n, 3), a view like positions.")
       .def_property_readonly(
           "triangles",
           [](const py::object& self) {
             const auto& t = self.cast<const PySimulation&>().sim().model().triangles;
-            return view(t.front().data(), t.size(), self);
+            return view(reinterpret_cast<const int32_t*>(t.data()), t.size(), self);
           },
           "The cloth's triangles as particle indices: a read-only int32 array (m, 3), "
           "counter-clockwise seen from the front.")
