@@ -30,8 +30,11 @@ inline CommandResult run_drape(const std::string& args) {
 }
 
 /// `drape ARGS` in the background, sent `signal` ("INT", "TERM") after `seconds`; its exit code.
+/// With job control on (set -m): a shell without it starts background commands with SIGINT
+/// ignored, so a signal sent before drape installs its handler (a slow start under the
+/// sanitizers) would be lost and the run would go on to its end.
 inline int run_drape_interrupted(const std::string& args, const char* signal, double seconds) {
-  const std::string command = std::string(DRAPE_EXE) + " " + args +
+  const std::string command = "set -m; " + std::string(DRAPE_EXE) + " " + args +
                               " >/dev/null 2>&1 & pid=$!; sleep " + std::to_string(seconds) +
                               "; kill -" + signal + " $pid; wait $pid";
   const int status = std::system(("bash -c '" + command + "'").c_str());

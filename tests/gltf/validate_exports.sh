@@ -10,6 +10,9 @@ trap 'rm -rf "$tmp"' EXIT
 "$drape" run "$src/scenes/sphere.json" --seconds 0.5 --every 5 --quiet --export "$tmp/sphere.glb"
 "$drape" run "$src/scenes/ground.json" --seconds 0.5 --every 3 --quiet --export "$tmp/ground.glb"
 "$drape" run "$src/scenes/hang.json" --seconds 0.1 --quiet --export "$tmp/hang.glb"
+# Job control on: without it the background run would start with SIGINT ignored, and a signal
+# sent before drape installs its handler (a slow start under the sanitizers) would be lost.
+set -m
 "$drape" run "$src/scenes/wind.json" --seconds 1000 --every 10 --quiet \
   --export "$tmp/stopped.glb" &
 pid=$!
