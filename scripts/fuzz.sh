@@ -6,7 +6,8 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 seconds=${1:-60}
 cmake -S . -B build-fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=clang++ \
-  -DDRAPE_FUZZ=ON -DDRAPE_OPENMP=OFF -DDRAPE_BUILD_TESTS=OFF -DDRAPE_BUILD_BENCH=OFF >/dev/null
+  -DDRAPE_FUZZ=ON -DDRAPE_OPENMP=OFF -DDRAPE_BUILD_TESTS=OFF -DDRAPE_BUILD_BENCH=OFF \
+  -DDRAPE_PYTHON=OFF >/dev/null
 cmake --build build-fuzz --parallel "$(nproc)" --target scene_fuzz override_fuzz
 for target in scene_fuzz override_fuzz; do
   work=build-fuzz/corpus-$target

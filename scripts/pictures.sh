@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Remakes the README's pictures in docs/ with drape itself: the viewer (under xvfb-run when no
-# display is set) and two `drape render` frames. Run after scripts/build.sh.
+# display is set), two `drape render` frames, and a run exported as .glb played back in Blender
+# (where Blender is installed: apt-get install blender). Run after scripts/build.sh.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 drape=./build/drape
@@ -29,5 +30,16 @@ for scene in table skirt flag; do
     --out "$tmp/$scene"
   cp "$tmp/$scene/frame_00240.png" "docs/$scene.png"
 done
+
+# The ground scene exported as one .glb, imported by Blender and rendered (Eevee) at 0.5, 1.4
+# and 3 s of its animation.
+if command -v blender >/dev/null; then
+  "$drape" run scenes/ground.json --seconds 3 --every 2 --quiet --export "$tmp/ground.glb"
+  blender -b --factory-startup --python-exit-code 1 --python scripts/blender_render.py -- \
+    "$tmp/ground.glb" "$tmp/blender.png" 0.5 1.4 3.0 >/dev/null 2>&1
+  cp "$tmp/blender.png" docs/blender.png
+else
+  echo "pictures: docs/blender.png not remade: blender is not installed"
+fi
 
 ls -l docs/*.png

@@ -12,8 +12,10 @@
 
 namespace drape {
 
+/// What a spring stands for in the grid (see ClothDef): structural (right and lower neighbour),
+/// shear (quad diagonals), bending (two steps right and two down).
 enum class SpringKind : uint8_t { structural, shear, bending };
-inline constexpr int kSpringKinds = 3;
+inline constexpr int kSpringKinds = 3;  ///< how many kinds there are
 const char* to_string(SpringKind k);
 
 /// A spring between particles i and j. Force on i: k(|d| − L)·d̂ + c((v_j − v_i)·d̂)·d̂ with

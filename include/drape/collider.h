@@ -10,16 +10,17 @@
 
 namespace drape {
 
-/// A collider ready for queries (plane normal normalised).
+/// A collider ready for queries (plane normal normalised), made from a ColliderDef.
 struct Collider {
   ColliderType type = ColliderType::sphere;
-  Vec3 center = Vec3::Zero();  ///< sphere centre or a point on the plane
-  double radius = 0.0;
-  Vec3 normal = Vec3::UnitY();
-  double friction = 0.0;
-  double thickness = 0.0;
+  Vec3 center = Vec3::Zero();   ///< m, sphere centre or a point on the plane
+  double radius = 0.0;          ///< m, sphere only
+  Vec3 normal = Vec3::UnitY();  ///< unit, plane only: the side the cloth stays on
+  double friction = 0.0;        ///< Coulomb coefficient (dimensionless)
+  double thickness = 0.0;       ///< m, gap kept between the cloth and the surface
 };
 
+/// The collider a definition describes; make_colliders converts a scene's list.
 Collider make_collider(const ColliderDef& def);
 std::vector<Collider> make_colliders(const std::vector<ColliderDef>& defs);
 

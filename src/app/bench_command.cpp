@@ -19,7 +19,7 @@
 #include "app/terminal.h"
 #include "drape/error.h"
 #include "drape/mesh.h"
-#include "io/mesh_export.h"
+#include "io/atomic_file.h"
 #include "io/scene_io.h"
 
 namespace drape::app {

@@ -1,7 +1,6 @@
 // `drape run SCENE`: simulate headless, print a summary, write stats and mesh exports.
 #include <chrono>
 #include <cstdio>
-#include <filesystem>
 #include <optional>
 #include <string>
 #include <vector>
@@ -11,15 +10,14 @@
 #endif
 
 #include "app/commands.h"
+#include "app/exports.h"
 #include "app/runner.h"
 #include "app/terminal.h"
 #include "drape/error.h"
-#include "io/mesh_export.h"
+#include "io/atomic_file.h"
 #include "io/scene_io.h"
 
 namespace drape::app {
-
-namespace fs = std::filesystem;
 
 namespace {
 
@@ -28,36 +26,13 @@ struct RunOptions {
   std::optional<double> seconds;
   std::vector<std::string> sets;
   std::string stats;
-  std::string export_dir;
-  std::string format = "obj";
+  std::string export_path;
+  std::string format;  // empty: from --export's name
   int every = 1;
   int threads = 0;
   bool quiet = false;
   bool force = false;
 };
-
-// An export folder holding frames of an earlier run is refused, so runs never mix.
-void prepare_export_dir(const std::string& dir, bool force) {
-  std::error_code ec;
-  if (fs::exists(dir, ec) && !fs::is_directory(dir, ec))
-    throw InputError("--export " + dir, "exists and is not a folder");
-  if (fs::exists(dir, ec)) {
-    for (const auto& entry : fs::directory_iterator(dir, ec)) {
-      if (entry.path().filename().string().rfind("frame_", 0) == 0 && !force)
-        throw InputError("--export " + dir,
-                         "already holds frames of an earlier run; choose another folder or "
-                         "pass --force to overwrite");
-    }
-  }
-  fs::create_directories(dir, ec);
-  if (ec) throw InputError("--export " + dir, "cannot create the folder: " + ec.message());
-}
-
-std::string frame_file(const std::string& dir, int64_t frame, const std::string& ext) {
-  char name[64];
-  std::snprintf(name, sizeof name, "frame_%05lld.%s", static_cast<long long>(frame), ext.c_str());
-  return (fs::path(dir) / name).string();
-}
 
 int run(const RunOptions& o) {
 #ifdef _OPENMP
@@ -70,6 +45,7 @@ int run(const RunOptions& o) {
   std::optional<Simulation> sim;
   int64_t frames = 0;
   double setup_ms = 0.0;
+  ExportTarget target;
   try {
     const SceneDef def = io::load_scene(o.scene, sets);
     frames = frame_count(def);
@@ -82,41 +58,33 @@ int run(const RunOptions& o) {
       throw InputError(o.scene + ": " + e.path(), e.problem());
     }
     setup_ms = std::chrono::duration<double, std::milli>(clock::now() - t0).count();
-    if (!o.export_dir.empty()) prepare_export_dir(o.export_dir, o.force);
+    if (!o.export_path.empty()) {
+      target = resolve_export(o.export_path, o.format, o.scene, o.every);
+      prepare_export(target, *sim, frames, o.force);
+    }
   } catch (const InputError& e) {
     std::fprintf(stderr, "drape: error: %s\n", e.what());
     return kExitBadInput;
   }
 
-  const io::MeshFormat format = o.format == "ply" ? io::MeshFormat::ply : io::MeshFormat::obj;
-  int64_t exported = 0;
+  std::optional<Exporter> exporter;
   RunHooks hooks;
   if (!o.quiet) hooks.progress_label = sim->def().name;
-  if (!o.export_dir.empty()) {
-    hooks.after_frame = [&](const Simulation& s) {
-      if (s.frame() % o.every == 0 || s.frame() == frames) {
-        io::write_mesh(frame_file(o.export_dir, s.frame(), o.format), format, s.model(),
-                       s.state());
-        ++exported;
-      }
-    };
+  if (!o.export_path.empty()) {
+    exporter.emplace(target, frames, "drape " DRAPE_VERSION);
+    hooks.after_frame = [&](const Simulation& s) { exporter->after_frame(s); };
   }
   install_interrupt_handlers();
   RunResult result;
   try {
     result = run_frames(*sim, frames, hooks);
+    // A stopped run still exports where it stopped; caches are completed here.
+    if (exporter) exporter->finish(*sim, result);
   } catch (const std::exception& e) {  // an export that cannot be written
     std::fprintf(stderr, "drape: error: %s\n", e.what());
     return 1;
   }
   result.setup_ms = setup_ms;
-  // A stopped run still exports where it stopped, so the last file is the last state.
-  if (!o.export_dir.empty() && result.status != RunStatus::ok && !sim->diverged() &&
-      sim->frame() % o.every != 0) {
-    io::write_mesh(frame_file(o.export_dir, sim->frame(), o.format), format, sim->model(),
-                   sim->state());
-    ++exported;
-  }
 
   const nlohmann::json stats = stats_json(*sim, result);
   if (!o.stats.empty()) {
@@ -140,9 +108,7 @@ int run(const RunOptions& o) {
         to_string(sim->def().solver.method), sim->model().size(), sim->model().springs.size(),
         d.kinetic_energy, 100.0 * d.max_strain, 100.0 * d.mean_strain, d.max_penetration,
         d.pinned_drift);
-    if (exported > 0)
-      std::printf("  exported %lld %s files to %s\n", static_cast<long long>(exported),
-                  o.format.c_str(), o.export_dir.c_str());
+    if (exporter) std::printf("  exported %s\n", exporter->summary().c_str());
     if (!o.stats.empty()) std::printf("  stats written to %s\n", o.stats.c_str());
   }
   return exit_code(o.scene, *sim, result, "stats and exports so far are kept");
@@ -159,8 +125,13 @@ std::function<int()> add_run_command(CLI::App& app) {
       ->take_all()
       ->allow_extra_args(false);
   cmd->add_option("--stats", o->stats, "Write run statistics as JSON to this file");
-  cmd->add_option("--export", o->export_dir, "Write one mesh per exported frame to this folder");
-  cmd->add_option("--format", o->format, "Export format")->check(CLI::IsMember({"obj", "ply"}));
+  cmd->add_option("--export", o->export_path,
+                  "Write one mesh per exported frame to this folder, or one animation cache of "
+                  "the run to this FILE.pc2 or FILE.glb");
+  cmd->add_option("--format", o->format,
+                  "Export format: obj or ply (files per frame), pc2 or glb (one cache; with a "
+                  "folder, named after the scene file). Default: from --export's name, else obj")
+      ->check(CLI::IsMember({"obj", "ply", "pc2", "glb"}));
   cmd->add_option("--every", o->every, "Export every Nth frame (and always the last)")
       ->check(CLI::Range(1, 1 << 30));
   cmd->add_option("--threads", o->threads, "Threads to use (default: all cores)")

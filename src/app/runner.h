@@ -6,24 +6,15 @@
 #include <string>
 #include <vector>
 
-#include <nlohmann/json.hpp>
-
 #include "drape/simulation.h"
+#include "io/run_stats.h"
 
 namespace drape::app {
 
-enum class RunStatus { ok, diverged, interrupted };
-const char* to_string(RunStatus s);
-
-struct RunResult {
-  RunStatus status = RunStatus::ok;
-  int64_t frames = 0;             ///< frames simulated
-  double wall_seconds = 0.0;      ///< whole loop, exports included
-  double setup_ms = 0.0;          ///< building the simulation
-  std::vector<double> frame_ms;   ///< wall time of each frame's step alone
-  int signal = 0;                 ///< the signal that interrupted the run, or 0
-  double median_ms() const;
-};
+// The run's record and its stats live with the stats writer, which the Python module shares.
+using io::RunResult;
+using io::RunStatus;
+using io::stats_json;
 
 struct RunHooks {
   /// Called after each frame (and once before the first, with frame() == 0). May throw.
@@ -53,8 +44,5 @@ void check_work(const Simulation& sim, int64_t frames, const Budget& budget = {}
 /// hint) or 130/143 (interrupted: reported with the frame and what was kept, `kept`).
 int exit_code(const std::string& scene, const Simulation& sim, const RunResult& run,
               const char* kept);
-
-/// The stats other tools read (keys documented in the README).
-nlohmann::json stats_json(const Simulation& sim, const RunResult& run);
 
 }  // namespace drape::app

@@ -21,7 +21,7 @@
 #include "app/terminal.h"
 #include "drape/error.h"
 #include "drape/simulation.h"
-#include "io/mesh_export.h"
+#include "io/atomic_file.h"
 #include "io/scene_io.h"
 #include "render/camera.h"
 #include "render/picking.h"

@@ -20,7 +20,4 @@ void write_mesh(const std::string& file, MeshFormat format, const ClothModel& mo
 /// temporary name and a rename, with `comment` on its first line.
 void write_obj(const std::string& file, const ClothMesh& mesh, const std::string& comment);
 
-/// Writes `text` to `file` through a temporary name and a rename.
-void write_file_atomically(const std::string& file, const std::string& text);
-
 }  // namespace drape::io

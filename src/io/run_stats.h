@@ -1,0 +1,33 @@
+// The stats of a run, as `drape run --stats` writes them and the Python module's stats()
+// returns them: one implementation, so both give the same keys with the same meaning (listed in
+// the README).
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "drape/simulation.h"
+
+namespace drape::io {
+
+enum class RunStatus { ok, diverged, interrupted };
+const char* to_string(RunStatus s);
+
+/// What the loop that stepped a simulation saw.
+struct RunResult {
+  RunStatus status = RunStatus::ok;
+  int64_t frames = 0;            ///< frames simulated
+  double wall_seconds = 0.0;     ///< the whole loop, exports included
+  double setup_ms = 0.0;         ///< building the simulation
+  std::vector<double> frame_ms;  ///< wall time of each frame's step alone
+  int signal = 0;                ///< the signal that interrupted the run, or 0
+  /// The median of frame_ms (0 for none).
+  double median_ms() const;
+};
+
+/// The stats other tools read: the run's figures and the simulation's state at its end.
+nlohmann::json stats_json(const Simulation& sim, const RunResult& run);
+
+}  // namespace drape::io
