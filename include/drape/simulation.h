@@ -41,6 +41,9 @@ struct AutoChoice {
   int raises = 0;        ///< times it raised its effort
   int lowers = 0;        ///< times it lowered it
   double strain = 0.0;   ///< the largest structural strain after the last frame
+  /// More effort stopped lowering the strain while it was above the tolerance: what is left is
+  /// the springs' own stretch (soft springs, point pins without attachments), out of reach.
+  bool out_of_reach = false;
 };
 
 /// Heap memory the simulation holds, in bytes (vectors counted by capacity).

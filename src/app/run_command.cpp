@@ -105,7 +105,7 @@ int run(const RunOptions& o) {
         "penetration %.3g m, pin drift %.3g m\n",
         sim->def().name.c_str(), static_cast<long long>(result.frames), sim->time(),
         result.wall_seconds, result.median_ms(), sim->substeps_per_frame(),
-        to_string(sim->def().solver.method), sim->model().size(), sim->model().springs.size(),
+        method_text(*sim).c_str(), sim->model().size(), sim->model().springs.size(),
         d.kinetic_energy, 100.0 * d.max_strain, 100.0 * d.mean_strain, d.max_penetration,
         d.pinned_drift);
     if (exporter) std::printf("  exported %s\n", exporter->summary().c_str());

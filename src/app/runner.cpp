@@ -80,6 +80,22 @@ void check_work(const Simulation& sim, int64_t frames, const Budget& budget) {
   throw InputError("duration", problem);
 }
 
+std::string method_text(const Simulation& sim) {
+  const AutoChoice* a = sim.auto_choice();
+  if (!a) return to_string(sim.def().solver.method);
+  char text[200];
+  std::snprintf(text, sizeof text,
+                "auto: %s %s, %d substeps, %d line passes, %d stiff sweeps; effort raised %d, "
+                "lowered %d times",
+                to_string(a->method), to_string(a->precision), a->substeps, a->line_passes,
+                a->stiff_sweeps, a->raises, a->lowers);
+  std::string out = text;
+  if (a->out_of_reach)
+    out += " (the strain stays above solver.tolerance however hard it works: the springs' own "
+           "stretch; stiffer springs or cloth.long_range would lower it)";
+  return out;
+}
+
 int exit_code(const std::string& scene, const Simulation& sim, const RunResult& run,
               const char* kept) {
   if (sim.diverged()) {

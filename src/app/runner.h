@@ -40,6 +40,10 @@ void check_memory(const SceneDef& def, const Budget& budget = {});
 /// Throws InputError (at duration) if `frames` frames of `sim` would exceed the budget.
 void check_work(const Simulation& sim, int64_t frames, const Budget& budget = {});
 
+/// The method for a summary: its name, and for auto what it chose and how it adapted
+/// ("auto: xpbd single, 4 substeps, 4 line passes, 1 stiff sweep; raised 2, lowered 1").
+std::string method_text(const Simulation& sim);
+
 /// The exit code for a finished run: 0, 3 (diverged: reported with the frame, the reason and a
 /// hint) or 130/143 (interrupted: reported with the frame and what was kept, `kept`).
 int exit_code(const std::string& scene, const Simulation& sim, const RunResult& run,

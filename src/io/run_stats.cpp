@@ -35,6 +35,15 @@ nlohmann::json stats_json(const Simulation& sim, const RunResult& run) {
   j["diverged_frame"] = sim.diverged() ? nlohmann::json(sim.diverged_frame()) : nullptr;
   j["message"] = sim.diverged() ? nlohmann::json(sim.divergence()) : nullptr;
   j["method"] = to_string(sim.def().solver.method);
+  // What auto chose, as it ended, and how often it changed its effort; null for other methods.
+  if (const AutoChoice* a = sim.auto_choice()) {
+    j["auto"] = {{"method", to_string(a->method)},       {"precision", to_string(a->precision)},
+                 {"substeps", a->substeps},              {"line_passes", a->line_passes},
+                 {"stiff_sweeps", a->stiff_sweeps},      {"raises", a->raises},
+                 {"lowers", a->lowers},                  {"out_of_reach", a->out_of_reach}};
+  } else {
+    j["auto"] = nullptr;
+  }
   j["particles"] = sim.model().size();
   j["springs"] = sim.model().springs.size();
   j["frames"] = run.frames;

@@ -1,16 +1,23 @@
 // `auto`: the method a user gets who says what they want (the largest structural strain they
 // accept, solver.tolerance) rather than how to get it. It steps with xpbd in single precision
 // (the fastest method here at every size and shape, its strain resolved to ~1e-6, far below any
-// tolerance) and keeps the cheapest effort that holds the tolerance: after every frame it
-// measures the largest structural strain, raises its effort a step on a ladder of settings when
-// the strain nears the tolerance, and lowers it a step after a calm second.
+// tolerance) and keeps the cheapest effort that holds the tolerance, deciding every kWindow
+// frames from the largest structural strain over them: it raises its effort a step on a ladder
+// of settings when the strain passes kRaise of the tolerance, and lowers it a step after a calm
+// second below kLower.
 //
-// The ladder: where line passes may run (no pin, or the pins' long-range attachments on) the
-// bench's configurations, 4 substeps of 2 to 6 passes with 0 to 2 stiff sweeps after them, then
-// more substeps; elsewhere (a pinned cloth without attachments: auto may not turn them on, which
-// would change the physics) substeps with two stiff sweeps each, from xpbd's automatic count.
-// A step down that has to be taken back within kProbation frames marks the level below as too
-// low for good (a floor), so the settings settle instead of see-sawing.
+// The ladder: on a grid where line passes may run (no pin, or the pins' long-range attachments
+// on) the bench's configurations, 4 substeps of 2 to 6 passes with 0 to 2 stiff sweeps after
+// them, then more substeps; elsewhere (a mesh, whose line passes gain little; a pinned cloth
+// without attachments, which auto may not turn on: that would change the physics) substeps
+// with two stiff sweeps each, from xpbd's own automatic count.
+//
+// Two rules keep it from see-sawing and from paying for nothing. A step down that has to be
+// taken back within two windows marks the level below as too low (a floor). A step up that
+// leaves the strain where it was (above 90% of the window before) shows that the strain is the
+// springs' own stretch, which no effort removes (soft springs, point pins without attachments):
+// the step is taken back and the level becomes a ceiling for kCeilingFrames, and the choice says
+// the tolerance is out of reach.
 #include <algorithm>
 #include <cmath>
 
@@ -39,10 +46,12 @@ constexpr int kSubstepLadder[] = {4,   6,   9,   14,  21,  32,   48,   72,  108,
                                   162, 243, 365, 548, 822, 1233, 1850, 2775};
 constexpr int kSweepsWithSubsteps = 2;
 
-constexpr double kRaise = 0.8;   // raise the effort when the strain passes this share of the tolerance
-constexpr double kLower = 0.4;   // and lower it after a calm second below this share
-constexpr int kCalmFrames = 60;  // a second at 60 frames a second
-constexpr int kProbation = 120;  // a step down taken back within this many frames was one too far
+constexpr double kRaise = 0.8;    // raise when the strain passes this share of the tolerance
+constexpr double kLower = 0.4;    // lower after a calm second below this share
+constexpr int kWindow = 10;       // frames between decisions
+constexpr int kCalmWindows = 6;   // a second at 60 frames a second
+constexpr double kHelped = 0.9;   // a raise must bring the strain below this share of before
+constexpr int kCeilingFrames = 300;
 
 class AutoSolver final : public Solver {
  public:
@@ -58,7 +67,7 @@ class AutoSolver final : public Solver {
     }
     bool pinned = false;
     for (int32_t i = 0; i < m.size() && !pinned; ++i) pinned = w.state.pinned[i] != 0;
-    const bool lines = !pinned || w.attachments.active();
+    const bool lines = m.grid.present() && (!pinned || w.attachments.active());
     // A new plan when the kind of ladder changes (pins or attachments changed); the level
     // reached is kept through the preparations the hand, pins and settings cause.
     if (!planned_ || lines != lines_) {
@@ -87,7 +96,8 @@ class AutoSolver final : public Solver {
                              ", fewer substeps than the auto method's least (" +
                              std::to_string(ladder_.back().substeps) + ")");
       level_ = std::min(level_, static_cast<int>(ladder_.size()) - 1);
-      floor_ = 0, calm_ = 0, probation_ = 0;
+      floor_ = 0, calm_ = 0, since_lower_ = kCalmWindows, ceiling_ = -1, ceiling_frames_ = 0;
+      raised_ = false, frame_ = 0, window_strain_ = 0.0;
       planned_ = true;
     }
     if (!inner_)
@@ -98,28 +108,12 @@ class AutoSolver final : public Solver {
   void step_frame(World& w, double dt) override {
     inner_->step_frame(w, dt);
     choice_.strain = max_strain(w.state.x);
-    const double tolerance = def_.tolerance;
-    if (probation_ > 0) --probation_;
-    const int top = static_cast<int>(ladder_.size()) - 1;
-    if (choice_.strain > kRaise * tolerance) {
-      calm_ = 0;
-      if (level_ < top) {
-        ++level_;
-        if (probation_ > 0) floor_ = std::max(floor_, level_);
-        probation_ = 0;
-        ++choice_.raises;
-        apply(w);
-      }
-    } else if (choice_.strain < kLower * tolerance) {
-      if (++calm_ >= kCalmFrames && level_ > floor_) {
-        --level_;
-        calm_ = 0;
-        probation_ = kProbation;
-        ++choice_.lowers;
-        apply(w);
-      }
-    } else {
-      calm_ = 0;
+    window_strain_ = std::max(window_strain_, choice_.strain);
+    if (ceiling_frames_ > 0 && --ceiling_frames_ == 0) ceiling_ = -1;
+    if (++frame_ % kWindow == 0) {
+      decide(w, window_strain_);
+      last_window_strain_ = window_strain_;
+      window_strain_ = 0.0;
     }
   }
 
@@ -131,6 +125,51 @@ class AutoSolver final : public Solver {
   const AutoChoice* auto_choice() const override { return &choice_; }
 
  private:
+  // One decision on the largest strain of the window just ended.
+  void decide(const World& w, double strain) {
+    const double tolerance = def_.tolerance;
+    const int top = ceiling_ >= 0 ? ceiling_ : static_cast<int>(ladder_.size()) - 1;
+    ++since_lower_;
+    if (strain > kRaise * tolerance) {
+      calm_ = 0;
+      if (raised_ && strain > kHelped * last_window_strain_) {
+        // The last step up did not help: take it back and go no higher for a while.
+        ceiling_ = level_ - 1;
+        ceiling_frames_ = kCeilingFrames;
+        choice_.out_of_reach = true;
+        raised_ = false;
+        change(w, level_ - 1);
+        ++choice_.lowers;
+        return;
+      }
+      raised_ = false;
+      if (level_ < top) {
+        if (since_lower_ <= 2) floor_ = std::max(floor_, level_ + 1);
+        change(w, level_ + 1);
+        raised_ = true;
+        ++choice_.raises;
+      }
+      return;
+    }
+    raised_ = false;
+    if (strain < kLower * tolerance) {
+      if (++calm_ >= kCalmWindows && level_ > floor_) {
+        calm_ = 0;
+        since_lower_ = 0;
+        change(w, level_ - 1);
+        ++choice_.lowers;
+      }
+    } else {
+      calm_ = 0;
+    }
+    if (strain <= kRaise * tolerance) choice_.out_of_reach = false;
+  }
+
+  void change(const World& w, int level) {
+    level_ = level;
+    apply(w);
+  }
+
   // Prepares xpbd with the ladder's settings at level_.
   void apply(const World& w) {
     const Effort& e = ladder_[level_];
@@ -165,7 +204,12 @@ class AutoSolver final : public Solver {
   std::vector<double> inv_rest_;
   bool planned_ = false, lines_ = false;
   std::vector<Effort> ladder_;
-  int level_ = 0, floor_ = 0, calm_ = 0, probation_ = 0;
+  int level_ = 0, floor_ = 0, calm_ = 0;
+  int since_lower_ = 0;                 ///< windows since the last step down
+  int ceiling_ = -1, ceiling_frames_ = 0;  ///< no higher than ceiling_ for that many frames
+  bool raised_ = false;                 ///< the last window ended with a step up
+  int64_t frame_ = 0;
+  double window_strain_ = 0.0, last_window_strain_ = 0.0;
   AutoChoice choice_;
 };
 
