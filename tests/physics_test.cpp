@@ -152,6 +152,27 @@ TEST(Divergence, AnUnstableStepIsCaughtWithinAFrame) {
   EXPECT_FALSE(sim.step());  // stays stopped
 }
 
+TEST(Divergence, AnOverflowingStateIsCaughtWithEveryMethod) {
+  // Gravity near the largest double: velocities, energies or squared positions overflow in the
+  // first frame, whichever each method reaches first; none may run on as if nothing happened.
+  for (const double g : {1e308, 1e300, 1e200}) {
+    for (const Method method : kAllMethods) {
+      SceneDef def = shipped("hang");
+      def.cloth.cols = def.cloth.rows = 8;
+      def.forces.gravity = Vec3(0.0, -g, 0.0);
+      def.solver.method = method;
+      Simulation sim(def);
+      for (int f = 0; f < 3 && sim.step(); ++f) {
+      }
+      ASSERT_TRUE(sim.diverged()) << to_string(method) << " at g = " << g;
+      EXPECT_EQ(sim.diverged_frame(), 1) << to_string(method) << " at g = " << g;
+      // No figure of the state claims to be finite beside a number that is not.
+      const Diagnostics d = sim.diagnostics();
+      EXPECT_FALSE(d.finite) << to_string(method) << " at g = " << g;
+    }
+  }
+}
+
 TEST(Divergence, AStableFreeFallIsNotFlagged) {
   SceneDef def = shipped("sphere");
   def.colliders.clear();  // falls for ever, gaining kinetic energy from gravity

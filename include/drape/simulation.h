@@ -26,7 +26,7 @@ struct Diagnostics {
   double p99_strain = 0.0;       ///< 99th percentile of the same
   double max_penetration = 0.0;  ///< m, deepest particle inside a collider's surface (0 if none)
   double pinned_drift = 0.0;     ///< m, largest distance of a pinned particle from its anchor
-  bool finite = true;            ///< every position and velocity is finite
+  bool finite = true;            ///< every position, velocity and figure above is finite
 };
 
 /// Heap memory the simulation holds, in bytes (vectors counted by capacity).

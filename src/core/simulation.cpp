@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <limits>
 #include <string>
 
 #include "drape/error.h"
@@ -89,7 +91,10 @@ bool Simulation::step() {
            divergence_hint(def_.solver.method);
   };
   if (!watch.finite) {
-    divergence_ = "the state became non-finite (NaN or infinity)" + method();
+    divergence_ =
+        "the state became non-finite or overflowed (NaN, infinity, or a position or velocity "
+        "beyond 1e150)" +
+        method();
   } else {
     if (def_.forces.wind.strength > 0.0)
       external_work_ += def_.solver.dt * forces::wind_power(model_, state_, def_.forces.wind,
@@ -101,12 +106,17 @@ bool Simulation::step() {
     double energy = watch.kinetic;
     if (solver_->stretch_is_energy()) energy += forces::spring_energy(model_, state_.x);
     const double supplied = energy_ref_ + external_work_ - watch.gravity;
-    if (energy - supplied > tolerance) {
+    // An energy that overflowed compares false with anything; so does an excess of inf − inf.
+    if (!std::isfinite(energy) || !std::isfinite(supplied)) {
+      divergence_ = "the energy overflowed (it is no longer a finite number)" + method();
+    } else if (energy - supplied > tolerance) {
+      // The excess, not the budget: a budget can be negative (the cloth risen far above where
+      // anything could have lifted it), and "more than −7.7e+06 J" reads as nonsense.
       char buf[200];
       std::snprintf(buf, sizeof buf,
-                    "the energy grew to %.3g J, more than the %.3g J that gravity, wind and the "
-                    "start state can supply (tolerance %.3g J)",
-                    energy, supplied, tolerance);
+                    "the energy grew to %.3g J, %.3g J more than gravity, wind and the start "
+                    "state can supply (tolerance %.3g J)",
+                    energy, energy - supplied, tolerance);
       divergence_ = buf + method();
     }
   }
@@ -165,6 +175,17 @@ Diagnostics Simulation::diagnostics() const {
       d.pinned_drift = std::max(d.pinned_drift, (state_.x[i] - state_.anchor[i]).norm());
     d.finite = d.finite && state_.x[i].allFinite() && state_.v[i].allFinite();
   }
+  // Maxima skip NaN (every comparison with it is false), so a state holding NaN would report
+  // figures of its other particles, or 0: its figures from positions are NaN instead.
+  if (!d.finite) {
+    for (double* figure :
+         {&d.max_strain, &d.mean_strain, &d.p99_strain, &d.max_penetration, &d.pinned_drift})
+      if (std::isfinite(*figure)) *figure = std::numeric_limits<double>::quiet_NaN();
+  }
+  // A figure that overflowed is as much a sign of a blown-up state as a position that did.
+  for (const double figure : {d.kinetic_energy, d.max_strain, d.mean_strain, d.p99_strain,
+                              d.max_penetration, d.pinned_drift})
+    d.finite = d.finite && std::isfinite(figure);
   return d;
 }
 
