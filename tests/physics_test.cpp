@@ -180,6 +180,33 @@ TEST(Divergence, AStableFreeFallIsNotFlagged) {
   for (int f = 0; f < 300; ++f) ASSERT_TRUE(sim.step()) << sim.divergence();
 }
 
+TEST(Colliders, AClothStartingInsideOneIsBadInputNamingIt) {
+  const auto message = [](const SceneDef& def) -> std::string {
+    try {
+      Simulation sim(def);
+    } catch (const InputError& e) {
+      return e.what();
+    }
+    return "";
+  };
+  SceneDef sphere = shipped("sphere");
+  sphere.colliders[0].radius = 2.0;  // swallows the cloth
+  EXPECT_EQ(message(sphere).rfind("colliders[0]: the cloth starts inside this sphere", 0), 0u)
+      << message(sphere);
+  SceneDef ground = shipped("ground");
+  ground.colliders[1].normal = Vec3(1.0, 0.0, 0.0);  // half the cloth behind it
+  EXPECT_EQ(message(ground).rfind("colliders[1]: the cloth starts behind this plane", 0), 0u)
+      << message(ground);
+  ground.colliders[1].normal = Vec3(0.0, -1.0, 0.0);  // all of it
+  EXPECT_NE(message(ground).find("1024 of its 1024 particles"), std::string::npos)
+      << message(ground);
+  // A cloth laid on a surface, within the thickness and the perturbation, is not inside it.
+  SceneDef laid = shipped("ground");
+  laid.colliders.erase(laid.colliders.begin());
+  laid.cloth.origin.y() = 0.0;
+  EXPECT_EQ(message(laid), "");
+}
+
 TEST(Substeps, AutomaticSubstepsAreRefusedAboveTheCap) {
   SceneDef def = shipped("hang");
   def.cloth.structural.stiffness = 1e9;

@@ -12,11 +12,49 @@
 
 namespace drape {
 
+namespace {
+
+// A cloth that starts inside a collider is thrown out of it by the first contact pass, with
+// energy that nothing supplied, and the divergence watch would report a blow-up and a hint
+// about the step: it is the scene that is wrong. A particle inside by no more than the
+// collider's thickness and the cloth's perturbation is the cloth laid on the surface; contacts
+// move it out by that much.
+void check_starts_outside(const std::vector<Collider>& colliders, const ClothDef& cloth,
+                          const std::vector<Vec3>& x) {
+  for (size_t k = 0; k < colliders.size(); ++k) {
+    const Collider& c = colliders[k];
+    const double allowed = c.thickness + cloth.perturbation + 1e-9;
+    int64_t inside = 0;
+    double depth = 0.0;
+    Vec3 deepest = Vec3::Zero(), n;
+    for (const Vec3& p : x) {
+      const double d = -signed_distance(c, p, n);
+      if (d <= allowed) continue;
+      ++inside;
+      if (d > depth) depth = d, deepest = p;
+    }
+    if (inside == 0) continue;
+    const bool sphere = c.type == ColliderType::sphere;
+    char problem[320];
+    std::snprintf(problem, sizeof problem,
+                  "the cloth starts %s: %lld of its %zu particles do, the deepest (at %.3g, %.3g, "
+                  "%.3g) %.3g m %s; move the cloth or the %s%s",
+                  sphere ? "inside this sphere" : "behind this plane",
+                  static_cast<long long>(inside), x.size(), deepest.x(), deepest.y(), deepest.z(),
+                  depth, sphere ? "inside its surface" : "behind it", to_string(c.type),
+                  sphere ? "" : ", or turn its normal to the cloth's side");
+    throw InputError("colliders[" + std::to_string(k) + "]", problem);
+  }
+}
+
+}  // namespace
+
 Simulation::Simulation(const SceneDef& def) : def_(def) {
   check(def_);
   model_ = build_grid(def_.cloth);
   state_ = initial_state(def_.cloth, model_);
   colliders_ = make_colliders(def_.colliders);
+  check_starts_outside(colliders_, def_.cloth, state_.x);
   solver_ = make_solver(def_.solver);
   scratch_.reserve(model_.size());
   prepare_solver();
