@@ -1,44 +1,13 @@
 #include "io/mesh_export.h"
 
 #include <bit>
-#include <cerrno>
 #include <cstdio>
-#include <cstring>
-#include <filesystem>
-#include <stdexcept>
+
+#include "io/output_file.h"
 
 namespace drape::io {
 
 namespace {
-
-// A FILE* that writes to FILE.tmp and renames it over FILE on commit().
-class AtomicFile {
- public:
-  explicit AtomicFile(std::string file) : file_(std::move(file)), tmp_(file_ + ".tmp") {
-    f_ = std::fopen(tmp_.c_str(), "wb");
-    if (!f_) throw std::runtime_error(file_ + ": cannot write: " + std::strerror(errno));
-  }
-  ~AtomicFile() {
-    if (f_) {
-      std::fclose(f_);
-      std::remove(tmp_.c_str());
-    }
-  }
-  FILE* get() { return f_; }
-  void commit() {
-    const bool ok = !std::ferror(f_);
-    const bool closed = std::fclose(f_) == 0;
-    f_ = nullptr;
-    if (!ok || !closed || std::rename(tmp_.c_str(), file_.c_str()) != 0) {
-      std::remove(tmp_.c_str());
-      throw std::runtime_error(file_ + ": cannot write: " + std::strerror(errno));
-    }
-  }
-
- private:
-  std::string file_, tmp_;
-  FILE* f_ = nullptr;
-};
 
 void write_obj(FILE* f, const ClothModel& m, const ClothState& s) {
   std::fprintf(f, "# drape cloth: %d particles, %zu triangles\n", m.size(), m.triangles.size());
@@ -78,16 +47,14 @@ void write_ply(FILE* f, const ClothModel& m, const ClothState& s) {
 
 void write_mesh(const std::string& file, MeshFormat format, const ClothModel& model,
                 const ClothState& state) {
-  AtomicFile out(file);
+  OutputFile out(file);
   if (format == MeshFormat::obj) write_obj(out.get(), model, state);
   else write_ply(out.get(), model, state);
   out.commit();
 }
 
 void write_file_atomically(const std::string& file, const std::string& text) {
-  AtomicFile out(file);
-  std::fwrite(text.data(), 1, text.size(), out.get());
-  out.commit();
+  write_output(file, text);
 }
 
 }  // namespace drape::io

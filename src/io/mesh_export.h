@@ -10,12 +10,12 @@ namespace drape::io {
 
 enum class MeshFormat { obj, ply };
 
-/// Writes the mesh to `file` through a temporary name and a rename, so a reader never sees half
-/// a file. Throws std::runtime_error naming the file if it cannot be written.
+/// Writes the mesh to `file` as io::OutputFile does (a reader never sees half a file). Throws
+/// OutputError naming the file if it cannot be written.
 void write_mesh(const std::string& file, MeshFormat format, const ClothModel& model,
                 const ClothState& state);
 
-/// Writes `text` to `file` through a temporary name and a rename.
+/// Writes `text` to `file` (io::write_output).
 void write_file_atomically(const std::string& file, const std::string& text);
 
 }  // namespace drape::io
