@@ -21,22 +21,6 @@ std::string data_dir(const std::string& name) {
   return std::string(DRAPE_SOURCE_DIR) + "/" + name;
 }
 
-void parse_size(const std::string& option, const std::string& text, int& width, int& height) {
-  // Digits, an x, digits: nothing before, between or after.
-  const size_t x = text.find_first_of("xX");
-  auto digits = [](const std::string& t) {
-    return !t.empty() && t.size() <= 5 &&
-           std::all_of(t.begin(), t.end(), [](unsigned char c) { return std::isdigit(c); });
-  };
-  if (x != std::string::npos && digits(text.substr(0, x)) && digits(text.substr(x + 1))) {
-    width = std::stoi(text.substr(0, x));
-    height = std::stoi(text.substr(x + 1));
-    if (width >= 16 && height >= 16 && width <= 8192 && height <= 8192) return;
-  }
-  throw InputError(option,
-                   "\"" + text + "\" is not a size WIDTHxHEIGHT in pixels, each 16 to 8192");
-}
-
 }  // namespace drape::app
 
 int main(int argc, char** argv) {

@@ -1,7 +1,6 @@
 // `drape run SCENE`: simulate headless, print a summary, write stats and mesh exports.
 #include <chrono>
 #include <cstdio>
-#include <filesystem>
 #include <optional>
 #include <string>
 #include <vector>
@@ -11,17 +10,21 @@
 #endif
 
 #include "app/commands.h"
+#include "app/frame_folder.h"
+#include "app/options.h"
 #include "app/runner.h"
 #include "app/terminal.h"
 #include "drape/error.h"
 #include "io/mesh_export.h"
+#include "io/output_file.h"
 #include "io/scene_io.h"
+#include "io/shown_text.h"
 
 namespace drape::app {
 
-namespace fs = std::filesystem;
-
 namespace {
+
+const std::vector<std::string> kMeshExtensions{"obj", "ply"};
 
 struct RunOptions {
   std::string scene;
@@ -36,53 +39,40 @@ struct RunOptions {
   bool force = false;
 };
 
-// An export folder holding frames of an earlier run is refused, so runs never mix.
-void prepare_export_dir(const std::string& dir, bool force) {
-  std::error_code ec;
-  if (fs::exists(dir, ec) && !fs::is_directory(dir, ec))
-    throw InputError("--export " + dir, "exists and is not a folder");
-  if (fs::exists(dir, ec)) {
-    for (const auto& entry : fs::directory_iterator(dir, ec)) {
-      if (entry.path().filename().string().rfind("frame_", 0) == 0 && !force)
-        throw InputError("--export " + dir,
-                         "already holds frames of an earlier run; choose another folder or "
-                         "pass --force to overwrite");
-    }
-  }
-  fs::create_directories(dir, ec);
-  if (ec) throw InputError("--export " + dir, "cannot create the folder: " + ec.message());
-}
-
-std::string frame_file(const std::string& dir, int64_t frame, const std::string& ext) {
-  char name[64];
-  std::snprintf(name, sizeof name, "frame_%05lld.%s", static_cast<long long>(frame), ext.c_str());
-  return (fs::path(dir) / name).string();
-}
-
 int run(const RunOptions& o) {
 #ifdef _OPENMP
   if (o.threads > 0) omp_set_num_threads(o.threads);
 #endif
   std::vector<std::string> sets = o.sets;
-  if (o.seconds) sets.push_back("duration=" + std::to_string(*o.seconds));
+  if (o.seconds) sets.push_back("duration=" + exact_number(*o.seconds));
+  const std::string source = io::source_name(o.scene);
 
+  // Everything that can be checked before the run is, so a mistake costs no simulation and
+  // leaves nothing behind: the scene, the outputs, the budgets; then the export folder is made.
   using clock = std::chrono::steady_clock;
   std::optional<Simulation> sim;
-  int64_t frames = 0;
+  int64_t frames = 0, replaced = 0;
   double setup_ms = 0.0;
   try {
     const SceneDef def = io::load_scene(o.scene, sets);
     frames = frame_count(def);
+    if (!o.stats.empty()) {
+      io::check_output("--stats", o.stats);
+      check_not_the_scene("--stats", o.stats, o.scene);
+    }
+    if (!o.export_dir.empty())
+      check_frame_folder("--export", o.export_dir, kMeshExtensions, o.force);
     const auto t0 = clock::now();
     try {
       if (!o.force) check_memory(def);
       sim.emplace(def);
       if (!o.force) check_work(*sim, frames);
     } catch (const InputError& e) {
-      throw InputError(o.scene + ": " + e.path(), e.problem());
+      throw InputError(source + ": " + e.path(), e.problem());
     }
     setup_ms = std::chrono::duration<double, std::milli>(clock::now() - t0).count();
-    if (!o.export_dir.empty()) prepare_export_dir(o.export_dir, o.force);
+    if (!o.export_dir.empty())
+      replaced = prepare_frame_folder("--export", o.export_dir, kMeshExtensions);
   } catch (const InputError& e) {
     std::fprintf(stderr, "drape: error: %s\n", e.what());
     return kExitBadInput;
@@ -90,62 +80,66 @@ int run(const RunOptions& o) {
 
   const io::MeshFormat format = o.format == "ply" ? io::MeshFormat::ply : io::MeshFormat::obj;
   int64_t exported = 0;
+  auto export_frame = [&](const Simulation& s) {
+    io::write_mesh(frame_file(o.export_dir, s.frame(), o.format), format, s.model(), s.state());
+    ++exported;
+  };
   RunHooks hooks;
-  if (!o.quiet) hooks.progress_label = sim->def().name;
+  if (!o.quiet) hooks.progress_label = io::shown(sim->def().name, 30);
   if (!o.export_dir.empty()) {
     hooks.after_frame = [&](const Simulation& s) {
-      if (s.frame() % o.every == 0 || s.frame() == frames) {
-        io::write_mesh(frame_file(o.export_dir, s.frame(), o.format), format, s.model(),
-                       s.state());
-        ++exported;
-      }
+      if (s.frame() % o.every == 0 || s.frame() == frames) export_frame(s);
     };
   }
   install_interrupt_handlers();
-  RunResult result;
-  try {
-    result = run_frames(*sim, frames, hooks);
-  } catch (const std::exception& e) {  // an export that cannot be written
-    std::fprintf(stderr, "drape: error: %s\n", e.what());
-    return 1;
-  }
+  RunResult result = run_frames(*sim, frames, hooks);
   result.setup_ms = setup_ms;
+  std::vector<std::string> output_errors;
   // A stopped run still exports where it stopped, so the last file is the last state.
-  if (!o.export_dir.empty() && result.status != RunStatus::ok && !sim->diverged() &&
+  if (!o.export_dir.empty() && result.status == RunStatus::interrupted &&
       sim->frame() % o.every != 0) {
-    io::write_mesh(frame_file(o.export_dir, sim->frame(), o.format), format, sim->model(),
-                   sim->state());
-    ++exported;
+    try {
+      export_frame(*sim);
+    } catch (const io::OutputError& e) {
+      output_errors.push_back(e.what());
+    }
   }
-
-  const nlohmann::json stats = stats_json(*sim, result);
   if (!o.stats.empty()) {
     try {
-      io::write_file_atomically(o.stats, stats.dump(2) + "\n");
-    } catch (const std::exception& e) {
-      std::fprintf(stderr, "drape: error: %s\n", e.what());
-      return 1;
+      io::write_output(o.stats, json_text(stats_json(*sim, result)));
+    } catch (const io::OutputError& e) {
+      output_errors.push_back(e.what());
     }
   }
 
+  // The summary goes to standard error when the stats take standard output.
+  FILE* out = o.stats == "-" ? stderr : stdout;
   const Diagnostics d = sim->diagnostics();
   if (!o.quiet) {
-    std::printf(
+    std::fprintf(
+        out,
         "%s: %lld frames (%.2f s simulated) in %.2f s, %.3f ms/frame (median), %d substeps/frame, "
         "method %s\n"
         "  %d particles, %zu springs; kinetic energy %.3g J, strain max %.2f%% mean %.2f%%, "
         "penetration %.3g m, pin drift %.3g m\n",
-        sim->def().name.c_str(), static_cast<long long>(result.frames), sim->time(),
+        io::shown(sim->def().name).c_str(), static_cast<long long>(result.frames), sim->time(),
         result.wall_seconds, result.median_ms(), sim->substeps_per_frame(),
         to_string(sim->def().solver.method), sim->model().size(), sim->model().springs.size(),
         d.kinetic_energy, 100.0 * d.max_strain, 100.0 * d.mean_strain, d.max_penetration,
         d.pinned_drift);
     if (exported > 0)
-      std::printf("  exported %lld %s files to %s\n", static_cast<long long>(exported),
-                  o.format.c_str(), o.export_dir.c_str());
-    if (!o.stats.empty()) std::printf("  stats written to %s\n", o.stats.c_str());
+      std::fprintf(out, "  exported %lld %s files to %s", static_cast<long long>(exported),
+                   o.format.c_str(), o.export_dir.c_str());
+    if (exported > 0 && replaced > 0)
+      std::fprintf(out, ", in place of an earlier run's %lld", static_cast<long long>(replaced));
+    if (exported > 0) std::fprintf(out, "\n");
+    if (!o.stats.empty() && output_errors.empty() && o.stats != "-")
+      std::fprintf(out, "  stats written to %s\n", o.stats.c_str());
+    std::fflush(out);
   }
-  return exit_code(o.scene, *sim, result, "stats and exports so far are kept");
+  int code = exit_code(source, *sim, result, "stats and exports so far are kept");
+  for (const std::string& e : output_errors) std::fprintf(stderr, "drape: error: %s\n", e.c_str());
+  return output_errors.empty() ? code : kExitOutputFailed;
 }
 
 }  // namespace
@@ -153,22 +147,35 @@ int run(const RunOptions& o) {
 std::function<int()> add_run_command(CLI::App& app) {
   auto o = std::make_shared<RunOptions>();
   CLI::App* cmd = app.add_subcommand("run", "Simulate a scene headless and report what happened");
-  cmd->add_option("scene", o->scene, "Scene file (JSON)")->required();
-  cmd->add_option("--seconds", o->seconds, "Simulated duration in s (overrides the scene's)");
+  cmd->add_option("scene", o->scene, "Scene file (JSON), or - to read it from standard input")
+      ->required();
+  cmd->add_option("--seconds", o->seconds, "Simulated duration in s (overrides the scene's)")
+      ->check(finite_range(0.0, 1e7));
   cmd->add_option("--set", o->sets, "Override a scene key: KEY=VALUE, e.g. cloth.mass=2")
       ->take_all()
       ->allow_extra_args(false);
-  cmd->add_option("--stats", o->stats, "Write run statistics as JSON to this file");
-  cmd->add_option("--export", o->export_dir, "Write one mesh per exported frame to this folder");
-  cmd->add_option("--format", o->format, "Export format")->check(CLI::IsMember({"obj", "ply"}));
+  cmd->add_option("--stats", o->stats,
+                  "Write run statistics as JSON to this file (- for standard output)")
+      ->check(kNonEmpty);
+  CLI::Option* export_dir =
+      cmd->add_option("--export", o->export_dir, "Write one mesh per exported frame to this folder")
+          ->check(kNonEmpty);
+  cmd->add_option("--format", o->format, "Export format")
+      ->check(CLI::IsMember({"obj", "ply"}))
+      ->needs(export_dir)
+      ->capture_default_str();
   cmd->add_option("--every", o->every, "Export every Nth frame (and always the last)")
-      ->check(CLI::Range(1, 1 << 30));
+      ->check(CLI::Range(1, 1 << 30))
+      ->needs(export_dir)
+      ->capture_default_str();
   cmd->add_option("--threads", o->threads, "Threads to use (default: all cores)")
       ->check(CLI::Range(1, 1024));
   cmd->add_flag("--quiet", o->quiet, "No progress bar and no summary");
   cmd->add_flag("--force", o->force,
                 "Run beyond the memory and work budgets, and export into a folder that holds an "
-                "earlier run's frames");
+                "earlier run's frames (which are removed first)");
+  cmd->footer(
+      exit_codes_help({kExitOk, kExitBadInput, kExitDiverged, kExitOutputFailed, 129, 130, 143}));
   return [cmd, o] { return cmd->parsed() ? run(*o) : -1; };
 }
 

@@ -8,6 +8,7 @@
 #include "app/commands.h"
 #include "app/terminal.h"
 #include "drape/error.h"
+#include "io/output_file.h"
 
 namespace drape::app {
 
@@ -16,6 +17,7 @@ const char* to_string(RunStatus s) {
     case RunStatus::ok: return "ok";
     case RunStatus::diverged: return "diverged";
     case RunStatus::interrupted: return "interrupted";
+    case RunStatus::output_failed: return "output_failed";
   }
   return "?";
 }
@@ -36,8 +38,20 @@ RunResult run_frames(Simulation& sim, int64_t frames, const RunHooks& hooks) {
   r.frame_ms.reserve(static_cast<size_t>(std::min<int64_t>(frames, 1 << 20)));
   Progress bar(hooks.progress_label, frames, !hooks.progress_label.empty());
   const auto start = clock::now();
-  if (hooks.after_frame) hooks.after_frame(sim);
-  for (int64_t f = 0; f < frames; ++f) {
+  // False when an output failed: there is no point simulating what cannot be kept.
+  auto after_frame = [&] {
+    if (!hooks.after_frame) return true;
+    try {
+      hooks.after_frame(sim);
+      return true;
+    } catch (const io::OutputError& e) {
+      r.status = RunStatus::output_failed;
+      r.output_error = e.what();
+      return false;
+    }
+  };
+  const bool started = after_frame();
+  for (int64_t f = 0; started && f < frames; ++f) {
     const auto t0 = clock::now();
     const bool ok = sim.step();
     r.frame_ms.push_back(std::chrono::duration<double, std::milli>(clock::now() - t0).count());
@@ -46,7 +60,7 @@ RunResult run_frames(Simulation& sim, int64_t frames, const RunHooks& hooks) {
       r.status = RunStatus::diverged;
       break;
     }
-    if (hooks.after_frame) hooks.after_frame(sim);
+    if (!after_frame()) break;
     if (int s = interrupt_signal()) {
       r.status = RunStatus::interrupted;
       r.signal = s;
@@ -80,6 +94,22 @@ void check_memory(const SceneDef& def, const Budget& budget) {
   throw InputError("cloth.resolution", problem);
 }
 
+void check_memory(const SceneDef& def, int64_t picture_bytes, const std::string& option,
+                  const Budget& budget) {
+  check_memory(def, budget);
+  const int64_t cloth = estimated_memory(def);
+  if (cloth + picture_bytes <= budget.bytes) return;
+  char problem[256];
+  std::snprintf(problem, sizeof problem,
+                "drawing at this size takes about %.1f GiB, which with the cloth's %.1f GiB is "
+                "more than the %.1f GiB budget; choose a smaller size, or pass --force to draw "
+                "it anyway",
+                static_cast<double>(picture_bytes) / (1 << 30),
+                static_cast<double>(cloth) / (1 << 30),
+                static_cast<double>(budget.bytes) / (1 << 30));
+  throw InputError(option, problem);
+}
+
 void check_work(const Simulation& sim, int64_t frames, const Budget& budget) {
   const double updates = static_cast<double>(frames) * sim.substeps_per_frame() *
                          static_cast<double>(sim.model().size() + sim.model().springs.size());
@@ -107,7 +137,21 @@ int exit_code(const std::string& scene, const Simulation& sim, const RunResult& 
                  static_cast<long long>(sim.frame()), kept);
     return interrupt_exit_code(run.signal);
   }
+  if (run.status == RunStatus::output_failed) {
+    std::fprintf(stderr, "drape: error: %s; the run stopped at frame %lld\n",
+                 run.output_error.c_str(), static_cast<long long>(sim.frame()));
+    return kExitOutputFailed;
+  }
   return kExitOk;
+}
+
+nlohmann::json figure(double x) {
+  if (std::isfinite(x)) return x;
+  return std::isnan(x) ? "nan" : x > 0 ? "inf" : "-inf";
+}
+
+std::string json_text(const nlohmann::json& j) {
+  return j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n";
 }
 
 nlohmann::json stats_json(const Simulation& sim, const RunResult& run) {
@@ -116,7 +160,9 @@ nlohmann::json stats_json(const Simulation& sim, const RunResult& run) {
   j["scene"] = sim.def().name;
   j["status"] = to_string(run.status);
   j["diverged_frame"] = sim.diverged() ? nlohmann::json(sim.diverged_frame()) : nullptr;
-  j["message"] = sim.diverged() ? nlohmann::json(sim.divergence()) : nullptr;
+  j["message"] = sim.diverged()                           ? nlohmann::json(sim.divergence())
+                 : run.status == RunStatus::output_failed ? nlohmann::json(run.output_error)
+                                                          : nullptr;
   j["method"] = to_string(sim.def().solver.method);
   j["particles"] = sim.model().size();
   j["springs"] = sim.model().springs.size();
@@ -132,8 +178,6 @@ nlohmann::json stats_json(const Simulation& sim, const RunResult& run) {
   j["model_bytes"] = memory.model;
   j["workspace_bytes"] = memory.workspace;
   j["bytes_per_particle"] = memory.per_particle(sim.model().size());
-  // JSON has no NaN or infinity: non-finite figures of a diverged state are written as null.
-  auto figure = [](double x) { return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(); };
   j["kinetic_energy"] = figure(d.kinetic_energy);
   j["max_strain"] = figure(d.max_strain);
   j["mean_strain"] = figure(d.mean_strain);

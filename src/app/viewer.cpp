@@ -17,12 +17,14 @@
 #include <nlohmann/json.hpp>
 
 #include "app/commands.h"
+#include "app/runner.h"
 #include "app/sim_thread.h"
 #include "app/terminal.h"
 #include "drape/error.h"
 #include "drape/simulation.h"
-#include "io/mesh_export.h"
+#include "io/output_file.h"
 #include "io/scene_io.h"
+#include "io/shown_text.h"
 #include "render/camera.h"
 #include "render/picking.h"
 #include "render/renderer.h"
@@ -105,7 +107,7 @@ class Viewer {
   void draw_panel();
   void draw_help();
   void draw_frame();
-  std::string save_screenshot(const std::string& file);
+  bool save_screenshot(const std::string& file);  // says how it went in status_
 
   ViewerOptions o_;
   SceneDef def_;   // what the simulation was built from
@@ -126,6 +128,8 @@ class Viewer {
   bool orbiting_ = false, panning_ = false;
   double cursor_x_ = 0.0, cursor_y_ = 0.0;
   std::string status_, error_;
+  // Where messages for the person go: standard error when the report takes standard output.
+  FILE* out_ = o_.report == "-" ? stderr : stdout;
   std::vector<std::string> scene_files_;
   std::string scene_file_;
 };
@@ -157,7 +161,7 @@ bool Viewer::open() {
   glfwWindowHint(GLFW_OPENGL_FORWARD_COMPAT, GLFW_TRUE);
   glfwWindowHint(GLFW_RESIZABLE, GLFW_TRUE);
   glfwWindowHint(GLFW_SAMPLES, 4);
-  const std::string title = "drape: " + def_.name;
+  const std::string title = "drape: " + io::shown(def_.name);
   window_ = glfwCreateWindow(o_.width, o_.height, title.c_str(), nullptr, nullptr);
   if (!window_) {  // some servers offer no multisampled visual
     glfwWindowHint(GLFW_SAMPLES, 0);
@@ -293,10 +297,10 @@ void Viewer::on_key(int key, int action, int /*mods*/) {
       show_help_ = !show_help_;
       break;
     case GLFW_KEY_P: {
-      char name[128];
-      std::snprintf(name, sizeof name, "drape_%s_%05lld.png", def_.name.c_str(),
-                    static_cast<long long>(snap_->frame));
-      status_ = save_screenshot(name);
+      // The scene's name makes one file name in the working folder, whatever it holds.
+      char frame[32];
+      std::snprintf(frame, sizeof frame, "_%05lld.png", static_cast<long long>(snap_->frame));
+      save_screenshot("drape_" + io::file_name_from(def_.name) + frame);
       break;
     }
     case GLFW_KEY_ESCAPE:
@@ -613,19 +617,21 @@ void Viewer::draw_frame() {
   ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
 }
 
-std::string Viewer::save_screenshot(const std::string& file) {
+bool Viewer::save_screenshot(const std::string& file) {
   int fb_w = 1, fb_h = 1;
   glfwGetFramebufferSize(window_, &fb_w, &fb_h);
   glReadBuffer(GL_BACK);
   try {
     render::write_png(file, fb_w, fb_h, render::read_pixels({0, 0, fb_w, fb_h}));
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "drape view: %s\n", e.what());
-    return e.what();
+  } catch (const io::OutputError& e) {
+    std::fprintf(stderr, "drape: error: %s\n", e.what());
+    status_ = e.what();
+    return false;
   }
-  std::printf("screenshot: %s\n", file.c_str());
-  std::fflush(stdout);
-  return "screenshot: " + file;
+  std::fprintf(out_, "screenshot: %s\n", file.c_str());
+  std::fflush(out_);
+  status_ = "screenshot: " + file;
+  return true;
 }
 
 int Viewer::run() {
@@ -680,7 +686,7 @@ int Viewer::run() {
 
     if (scripted && (snap_->frame >= o_.frames || snap_->diverged)) {
       const double seconds = std::chrono::duration<double>(clock::now() - start).count();
-      if (!o_.screenshot.empty()) save_screenshot(o_.screenshot);
+      bool written = o_.screenshot.empty() || save_screenshot(o_.screenshot);
       const SimSnapshot& s = *snap_;
       if (dragged >= 0) {
         const render::Ray ray = ray_at((*o_.drag)[2], (*o_.drag)[3]);
@@ -692,8 +698,8 @@ int Viewer::run() {
         report["drag"]["ray_direction"] = {ray.direction.x(), ray.direction.y(), ray.direction.z()};
         report["drag"]["target"] = {target.x(), target.y(), target.z()};
         report["drag"]["start"] = {rest.x(), rest.y(), rest.z()};
-        std::printf("drag: particle %d held at (%.4f, %.4f, %.4f), %.4f m along the ray\n", dragged,
-                    x.x(), x.y(), x.z(), grab_along_);
+        std::fprintf(out_, "drag: particle %d held at (%.4f, %.4f, %.4f), %.4f m along the ray\n",
+                     dragged, x.x(), x.y(), x.z(), grab_along_);
         release();
       }
       report["frames"] = s.frame;
@@ -704,21 +710,22 @@ int Viewer::run() {
       report["particles"] = s.model->size();
       report["diverged"] = s.diverged;
       report["renderer"] = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
+      std::string report_error;
       try {
-        if (!o_.report.empty()) io::write_file_atomically(o_.report, report.dump(2) + "\n");
-      } catch (const std::exception& e) {
-        std::fprintf(stderr, "drape: error: %s\n", e.what());
-        return 1;
+        if (!o_.report.empty()) io::write_output(o_.report, json_text(report));
+      } catch (const io::OutputError& e) {
+        report_error = e.what();
+        written = false;
       }
-      std::printf("%s: %lld frames in %.2f s, %.1f frames/s, simulation %.2f ms/frame\n",
-                  def_.name.c_str(), static_cast<long long>(s.frame), seconds, shown / seconds,
-                  s.step_ms);
-      if (s.diverged) {
+      std::fprintf(out_, "%s: %lld frames in %.2f s, %.1f frames/s, simulation %.2f ms/frame\n",
+                   io::shown(def_.name).c_str(), static_cast<long long>(s.frame), seconds,
+                   shown / seconds, s.step_ms);
+      std::fflush(out_);
+      if (s.diverged)
         std::fprintf(stderr, "drape: error: diverged at frame %lld: %s\n",
                      static_cast<long long>(s.diverged_frame), s.divergence.c_str());
-        return kExitDiverged;
-      }
-      break;
+      if (!report_error.empty()) std::fprintf(stderr, "drape: error: %s\n", report_error.c_str());
+      return !written ? kExitOutputFailed : s.diverged ? kExitDiverged : kExitOk;
     }
     glfwSwapBuffers(window_);
   }

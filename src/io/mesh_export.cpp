@@ -53,8 +53,4 @@ void write_mesh(const std::string& file, MeshFormat format, const ClothModel& mo
   out.commit();
 }
 
-void write_file_atomically(const std::string& file, const std::string& text) {
-  write_output(file, text);
-}
-
 }  // namespace drape::io

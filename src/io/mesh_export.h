@@ -15,7 +15,4 @@ enum class MeshFormat { obj, ply };
 void write_mesh(const std::string& file, MeshFormat format, const ClothModel& model,
                 const ClothState& state);
 
-/// Writes `text` to `file` (io::write_output).
-void write_file_atomically(const std::string& file, const std::string& text);
-
 }  // namespace drape::io
