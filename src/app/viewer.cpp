@@ -88,6 +88,9 @@ class Viewer {
   render::Viewport viewport() const;  // the 3D view, window units
   render::Ray ray_at(double px, double py) const;
   void frame_camera();
+  void start_camera();
+  void follow_cloth();
+  bool cloth_bounds(Vec3& lo, Vec3& hi) const;
 
   // Input: the same calls serve the mouse and the scripted drag.
   void press(double px, double py, bool ctrl);
@@ -119,6 +122,11 @@ class Viewer {
   bool imgui_ = false;
   std::unique_ptr<render::Renderer> renderer_;
   render::OrbitCamera camera_;
+  // Until the hand moves the camera or the cloth, the camera follows the cloth: it frames the
+  // box the cloth has swept since it was last framed, so a cloth the wind blows toward the eye
+  // or across the view stays in the 3D view beside the panel.
+  bool follow_ = true;
+  Vec3 swept_lo_ = Vec3::Zero(), swept_hi_ = Vec3::Zero();
   render::DrawOptions draw_;
   int32_t held_ = -1;  // the particle the mouse holds (the snapshot may not show it yet)
   double grab_along_ = 0.0;
@@ -189,6 +197,12 @@ bool Viewer::open() {
   ImGui::CreateContext();
   ImGui::GetIO().IniFilename = nullptr;  // no imgui.ini in the user's folder
   ImGui::StyleColorsDark();
+  // A slider writes its value across its middle, where its grab can be: a thin, translucent
+  // grab leaves the value readable wherever it is (bending c at 0.1 hid it).
+  ImGuiStyle& style = ImGui::GetStyle();
+  style.GrabMinSize = 4.0f;
+  style.Colors[ImGuiCol_SliderGrab].w = 0.55f;
+  style.Colors[ImGuiCol_SliderGrabActive].w = 0.75f;
   ImGui_ImplGlfw_InitForOpenGL(window_, true);
   ImGui_ImplOpenGL3_Init("#version 330 core");
   imgui_ = true;
@@ -209,12 +223,38 @@ render::Ray Viewer::ray_at(double px, double py) const {
   return render::ray_from_pixel(camera_.view(), camera_.projection(vp.aspect()), vp, px, py);
 }
 
+// Room for the cloth to sag and swing around the box it fills: a twentieth of its size.
+constexpr double kFrameMargin = 0.05;
+// The camera backs off when the swept box leaves the middle 96% of the view, and then fits it
+// in the middle 90%, so it moves now and then, not every frame.
+constexpr double kFollowFraction = 0.96, kFitFraction = 0.9;
+
+bool Viewer::cloth_bounds(Vec3& lo, Vec3& hi) const {
+  if (!render::scene_bounds(snap_->state.x, snap_->colliders, lo, hi)) return false;
+  const Vec3 margin = Vec3::Constant(kFrameMargin * (hi - lo).maxCoeff());
+  lo -= margin;
+  hi += margin;
+  return true;
+}
+
 void Viewer::frame_camera() {
-  const render::Viewport vp = viewport();
-  const render::OrbitCamera fresh =
-      render::default_camera(snap_->state.x, snap_->colliders, vp.aspect());
-  camera_.target = fresh.target;
-  camera_.distance = fresh.distance;
+  follow_ = cloth_bounds(swept_lo_, swept_hi_);
+  if (follow_) camera_.fit(swept_lo_, swept_hi_, viewport().aspect(), kFitFraction);
+}
+
+void Viewer::start_camera() {
+  camera_ = render::default_camera(snap_->state.x, snap_->colliders, viewport().aspect());
+  frame_camera();
+}
+
+void Viewer::follow_cloth() {
+  Vec3 lo, hi;
+  if (!follow_ || !cloth_bounds(lo, hi)) return;
+  swept_lo_ = swept_lo_.cwiseMin(lo);
+  swept_hi_ = swept_hi_.cwiseMax(hi);
+  const double aspect = viewport().aspect();
+  if (!camera_.shows(swept_lo_, swept_hi_, aspect, kFollowFraction))
+    camera_.fit(swept_lo_, swept_hi_, aspect, kFitFraction);
 }
 
 void Viewer::press(double px, double py, bool ctrl) {
@@ -232,6 +272,7 @@ void Viewer::press(double px, double py, bool ctrl) {
   }
   held_ = pick.index;
   grab_along_ = pick.along;
+  follow_ = false;  // the hand has the cloth: the view must stay where the hand aims
   sim_->grab(pick.index, render::drag_target(ray, grab_along_));
 }
 
@@ -267,11 +308,14 @@ void Viewer::on_cursor(double px, double py) {
   cursor_y_ = py;
   if (orbiting_) camera_.orbit(-kOrbitPerUnit * dx, kOrbitPerUnit * dy);
   if (panning_) camera_.pan(dx, dy, viewport().height);
+  if (orbiting_ || panning_) follow_ = false;
   move(px, py);
 }
 
 void Viewer::on_scroll(double dy) {
-  if (!ImGui::GetIO().WantCaptureMouse) camera_.zoom(dy);
+  if (ImGui::GetIO().WantCaptureMouse) return;
+  camera_.zoom(dy);
+  follow_ = false;
 }
 
 void Viewer::on_key(int key, int action, int /*mods*/) {
@@ -354,8 +398,8 @@ void Viewer::open_scene(const std::string& file) {
       scene_file_ = file;
       sim_->sync();  // frame the new cloth, not the old one
       snap_ = sim_->snapshot();
-      camera_ = render::default_camera(snap_->state.x, snap_->colliders, viewport().aspect());
-      glfwSetWindowTitle(window_, ("drape: " + def.name).c_str());
+      start_camera();
+      glfwSetWindowTitle(window_, ("drape: " + io::shown(def.name)).c_str());
     }
   } catch (const InputError& e) {
     error_ = e.what();
@@ -557,6 +601,8 @@ void Viewer::draw_frame() {
   glfwGetWindowSize(window_, &win_w, &win_h);
   if (fb_w <= 0 || fb_h <= 0) return;  // minimised
 
+  follow_cloth();
+
   // Hover: the particle a press would pick.
   draw_.held = held_;
   draw_.highlighted = -1;
@@ -647,7 +693,7 @@ int Viewer::run() {
   std::sort(scene_files_.begin(), scene_files_.end());
   for (const std::string& f : scene_files_)
     if (fs::equivalent(f, o_.scene, ec)) scene_file_ = f;
-  camera_ = render::default_camera(snap_->state.x, snap_->colliders, viewport().aspect());
+  start_camera();
 
   // Scripted use: one frame per displayed frame, the drag moving before each.
   const bool scripted = o_.frames > 0;
