@@ -1,6 +1,7 @@
 // `drape run SCENE`: simulate headless, print a summary, write stats and mesh exports.
 #include <chrono>
 #include <cstdio>
+#include <filesystem>
 #include <optional>
 #include <string>
 #include <vector>
@@ -21,6 +22,8 @@
 #include "io/shown_text.h"
 
 namespace drape::app {
+
+namespace fs = std::filesystem;
 
 namespace {
 
@@ -59,6 +62,13 @@ int run(const RunOptions& o) {
     if (!o.stats.empty()) {
       io::check_output("--stats", o.stats);
       check_not_the_scene("--stats", o.stats, o.scene);
+      // Not there yet, the export folder passes the check above, and is made before the end.
+      const auto normal = [](const std::string& p) {
+        const fs::path n = fs::path(p).lexically_normal();
+        return n.has_filename() ? n : n.parent_path();
+      };
+      if (!o.export_dir.empty() && normal(o.stats) == normal(o.export_dir))
+        throw InputError("--stats " + o.stats, "is the --export folder; name a file");
     }
     if (!o.export_dir.empty())
       check_frame_folder("--export", o.export_dir, kMeshExtensions, o.force);
