@@ -688,8 +688,10 @@ int Viewer::run() {
   snap_ = sim_->snapshot();
   if (!open()) return kExitNoGraphics;
   std::error_code ec;
+  // Regular files only: picking a named pipe would wait for a writer with the window frozen.
   for (const auto& entry : fs::directory_iterator(scenes_dir(), ec))
-    if (entry.path().extension() == ".json") scene_files_.push_back(entry.path().string());
+    if (entry.path().extension() == ".json" && entry.is_regular_file(ec))
+      scene_files_.push_back(entry.path().string());
   std::sort(scene_files_.begin(), scene_files_.end());
   for (const std::string& f : scene_files_)
     if (fs::equivalent(f, o_.scene, ec)) scene_file_ = f;
