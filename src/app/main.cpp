@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "app/commands.h"
+#include "app/options.h"
 #include "drape/error.h"
 
 namespace drape::app {
@@ -28,6 +29,9 @@ int main(int argc, char** argv) {
   CLI::App app("drape: a fast, stable cloth simulator (mass-spring)", "drape");
   app.set_version_flag("--version", DRAPE_VERSION);
   app.require_subcommand(1);
+  app.footer(exit_codes_help({kExitOk, kExitBadInput, kExitDiverged, kExitNoGraphics,
+                              kExitOutputFailed, 129, 130, 143}) +
+             "\nEach command's --help lists the codes it returns, and its options' defaults.");
   std::vector<std::function<int()>> commands{add_run_command(app), add_compare_command(app),
                                               add_bench_command(app)};
 #ifdef DRAPE_HAVE_VIEWER
