@@ -230,7 +230,7 @@ INSTANTIATE_TEST_SUITE_P(
         BadRun{"HANG --set cloth.masss=2", "did you mean \"mass\""},
         BadRun{"HANG --set solver.method=rk4", "solver.method"},
         BadRun{"HANG --set cloth.springs.structural.stiffness=1e9", "substeps per frame"},
-        BadRun{"HANG --seconds -1", "duration"}, BadRun{"HANG --every 0", "--every"},
+        BadRun{"HANG --seconds -1", "--seconds"}, BadRun{"HANG --every 0", "--every"},
         BadRun{"HANG --format stl", "--format"}, BadRun{"HANG --no-such-flag", "no-such-flag"},
         // Budgets that protect the machine, lifted only by --force.
         BadRun{"HANG --set cloth.resolution=[3000,3000]", "GiB budget"},
@@ -376,7 +376,7 @@ TEST_F(Cli, BenchSearchesXpbdSubstepsAndStiffSweepsForTheBar) {
   const json plain = bench_rows(
       "--scenes drape --sizes 12 --methods xpbd --precision single --threads 1 --frames 5"
       " --no-search",
-      out);
+      path("plain"));
   EXPECT_EQ(plain[0]["stiff_sweeps"], 0);
   EXPECT_EQ(plain[0]["substep_tries"], 1);
   EXPECT_EQ(drape("bench --stiff-sweeps -1 --out " + out).code, 2);

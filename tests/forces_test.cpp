@@ -214,7 +214,7 @@ TEST(Wind, GustsStayWithinTheirAmplitude) {
   EXPECT_GT(hi - lo, 2.0);  // it does vary
 }
 
-TEST(Energy, TheWatchTakesBothEnergiesAndSeesAnyNonFiniteNumber) {
+TEST(Energy, TheWatchTakesBothEnergiesAndSeesAnyNonFiniteOrOverflowingNumber) {
   // 128×128 particles, enough to be summed in parallel; moving, out of plane.
   SceneDef def;
   def.cloth.cols = def.cloth.rows = 128;
@@ -231,10 +231,11 @@ TEST(Energy, TheWatchTakesBothEnergiesAndSeesAnyNonFiniteNumber) {
                gravity = forces::gravity_energy(m, s.x, g);
   EXPECT_NEAR(w.kinetic, kinetic, 1e-12 * kinetic);
   EXPECT_NEAR(w.gravity, gravity, 1e-12 * std::abs(gravity));
-  // One number anywhere, in any component, NaN or infinite: whatever it does to the sums.
+  // One number anywhere, in any component, NaN, infinite, or so large that its square (and so a
+  // strain or an energy) overflows: whatever it does to the sums.
   for (const int32_t i : {0, 5000, m.size() - 1}) {
     for (int d = 0; d < 3; ++d) {
-      for (const double bad : {std::nan(""), HUGE_VAL, -HUGE_VAL}) {
+      for (const double bad : {std::nan(""), HUGE_VAL, -HUGE_VAL, 1e200, -1e160}) {
         for (std::vector<Vec3>* field : {&s.x, &s.v}) {
           const double kept = (*field)[i][d];
           (*field)[i][d] = bad;

@@ -152,11 +152,59 @@ TEST(Divergence, AnUnstableStepIsCaughtWithinAFrame) {
   EXPECT_FALSE(sim.step());  // stays stopped
 }
 
+TEST(Divergence, AnOverflowingStateIsCaughtWithEveryMethod) {
+  // Gravity near the largest double: velocities, energies or squared positions overflow in the
+  // first frame, whichever each method reaches first; none may run on as if nothing happened.
+  for (const double g : {1e308, 1e300, 1e200}) {
+    for (const Method method : kAllMethods) {
+      SceneDef def = shipped("hang");
+      def.cloth.cols = def.cloth.rows = 8;
+      def.forces.gravity = Vec3(0.0, -g, 0.0);
+      def.solver.method = method;
+      Simulation sim(def);
+      for (int f = 0; f < 3 && sim.step(); ++f) {
+      }
+      ASSERT_TRUE(sim.diverged()) << to_string(method) << " at g = " << g;
+      EXPECT_EQ(sim.diverged_frame(), 1) << to_string(method) << " at g = " << g;
+      // No figure of the state claims to be finite beside a number that is not.
+      const Diagnostics d = sim.diagnostics();
+      EXPECT_FALSE(d.finite) << to_string(method) << " at g = " << g;
+    }
+  }
+}
+
 TEST(Divergence, AStableFreeFallIsNotFlagged) {
   SceneDef def = shipped("sphere");
   def.colliders.clear();  // falls for ever, gaining kinetic energy from gravity
   Simulation sim(def);
   for (int f = 0; f < 300; ++f) ASSERT_TRUE(sim.step()) << sim.divergence();
+}
+
+TEST(Colliders, AClothStartingInsideOneIsBadInputNamingIt) {
+  const auto message = [](const SceneDef& def) -> std::string {
+    try {
+      Simulation sim(def);
+    } catch (const InputError& e) {
+      return e.what();
+    }
+    return "";
+  };
+  SceneDef sphere = shipped("sphere");
+  sphere.colliders[0].radius = 2.0;  // swallows the cloth
+  EXPECT_EQ(message(sphere).rfind("colliders[0]: the cloth starts inside this sphere", 0), 0u)
+      << message(sphere);
+  SceneDef ground = shipped("ground");
+  ground.colliders[1].normal = Vec3(1.0, 0.0, 0.0);  // half the cloth behind it
+  EXPECT_EQ(message(ground).rfind("colliders[1]: the cloth starts behind this plane", 0), 0u)
+      << message(ground);
+  ground.colliders[1].normal = Vec3(0.0, -1.0, 0.0);  // all of it
+  EXPECT_NE(message(ground).find("1024 of its 1024 particles"), std::string::npos)
+      << message(ground);
+  // A cloth laid on a surface, within the thickness and the perturbation, is not inside it.
+  SceneDef laid = shipped("ground");
+  laid.colliders.erase(laid.colliders.begin());
+  laid.cloth.origin.y() = 0.0;
+  EXPECT_EQ(message(laid), "");
 }
 
 TEST(Substeps, AutomaticSubstepsAreRefusedAboveTheCap) {

@@ -131,6 +131,29 @@ TEST(RenderCamera, FrameCentresTheBoxAndFitsItsRadius) {
   EXPECT_NEAR(project_to_pixel(view, proj, vp, Vec3(1.0, 1.0 + r, 0.0)).y, 0.0, 1e-9);
 }
 
+TEST(RenderCamera, FitShowsEveryCornerOfTheBoxFromAnyAngle) {
+  // frame() fits the bounding radius at the target's depth; seen from above and aside in a
+  // wide view, a near corner can still fall outside, which fit() must not allow.
+  const Vec3 lo(-1.0, -0.2, -1.0), hi(1.0, 2.0, 3.0);
+  for (const double aspect : {0.5, 1.0, 920.0 / 720.0, 3.0}) {
+    for (const double yaw : {0.0, 0.45, 1.2, 2.5}) {
+      for (const double pitch : {-0.6, 0.0, 0.3, 1.2}) {
+        OrbitCamera cam;
+        cam.yaw = yaw;
+        cam.pitch = pitch;
+        cam.fit(lo, hi, aspect, 0.9);
+        EXPECT_TRUE(cam.shows(lo, hi, aspect, 0.9)) << aspect << " " << yaw << " " << pitch;
+      }
+    }
+  }
+  // A box behind the eye, or beside the view, is not shown.
+  OrbitCamera cam = front_camera();
+  const glm::dvec3 eye = cam.eye();
+  const Vec3 behind(eye.x, eye.y, eye.z + 1.0);
+  EXPECT_FALSE(cam.shows(behind, behind + Vec3::Constant(0.1), 1.0, 1.0));
+  EXPECT_FALSE(cam.shows(Vec3(50.0, 0.0, 0.0), Vec3(51.0, 1.0, 1.0), 1.0, 1.0));
+}
+
 TEST(RenderPicking, PicksThePointClosestToTheRay) {
   std::vector<Vec3> points;
   for (int i = 0; i < 5; ++i)

@@ -193,7 +193,9 @@ TEST_F(FileErrors, MissingFile) {
   EXPECT_EQ(error_loading(path), path + ": no such file");
 }
 
-TEST_F(FileErrors, Folder) { EXPECT_NE(error_loading(dir_.string()).find("not a regular file"), std::string::npos); }
+TEST_F(FileErrors, Folder) {
+  EXPECT_NE(error_loading(dir_.string()).find("is a folder"), std::string::npos);
+}
 
 TEST_F(FileErrors, EmptyFile) {
   const std::string path = write("empty.json", "  \n");

@@ -27,7 +27,7 @@ struct Diagnostics {
   double p99_strain = 0.0;       ///< 99th percentile of the same
   double max_penetration = 0.0;  ///< m, deepest particle inside a collider's surface (0 if none)
   double pinned_drift = 0.0;     ///< m, largest distance of a pinned particle from its anchor
-  bool finite = true;            ///< every position and velocity is finite
+  bool finite = true;            ///< every position, velocity and figure above is finite
 };
 
 /// What the auto method chose for the scene and how it adapted: the method and settings it
@@ -68,15 +68,17 @@ int64_t estimated_memory(const SceneDef& def);
 
 class Simulation {
  public:
-  /// Builds the cloth and the solver. Throws InputError if `def` fails check(), or if the
-  /// solver cannot run it (e.g. more automatic substeps than solver.max_substeps).
+  /// Builds the cloth and the solver. Throws InputError if `def` fails check(), if the cloth
+  /// starts inside a collider (deeper than its thickness plus the cloth's perturbation), or if
+  /// the solver cannot run it (e.g. more automatic substeps than solver.max_substeps).
   explicit Simulation(const SceneDef& def);
   ~Simulation();
   Simulation(Simulation&&) noexcept;
   Simulation& operator=(Simulation&&) noexcept;
 
-  /// Advances one frame of solver.dt. Returns false once the state has diverged (non-finite,
-  /// or kinetic energy beyond what gravity, wind and the user's hand could have supplied);
+  /// Advances one frame of solver.dt. Returns false once the state has diverged (non-finite or
+  /// overflowing positions, velocities or energies, or kinetic energy beyond what gravity, wind
+  /// and the user's hand could have supplied);
   /// the state is then left as it was at detection and later calls do nothing. Never throws.
   bool step();
 

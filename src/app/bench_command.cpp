@@ -15,11 +15,12 @@
 #endif
 
 #include "app/commands.h"
+#include "app/options.h"
 #include "app/runner.h"
 #include "app/terminal.h"
 #include "drape/error.h"
 #include "drape/mesh.h"
-#include "io/atomic_file.h"
+#include "io/output_file.h"
 #include "io/scene_io.h"
 
 namespace drape::app {
@@ -40,7 +41,11 @@ struct BenchOptions {
   std::vector<int> stiff_sweeps{0, 2, 5, 10, 20};  // xpbd: tried with the substep search
   std::vector<int> line_passes{2, 3, 4, 5, 6, 8};  // xpbd: tried too (0: none, as sweeps)
   std::string out = "bench-results";
+  bool force = false;                     // replace bench.json and bench.csv of an earlier run
+  std::vector<std::string> xpbd_options;  // options given that only xpbd's runs read
 };
+
+constexpr const char* kResultFiles[] = {"bench.json", "bench.csv"};
 
 // The substep counts tried, in order, when searching for the fewest that meet the bar: a
 // ladder of ratio about 1.5, so the count found is within 1.5× of the least.
@@ -279,26 +284,54 @@ nlohmann::json to_json(const Row& r) {
           {"stiff_sweeps", r.stiff_sweeps},
           {"line_passes", r.line_passes},
           {"frames", r.frames},
-          {"setup_ms", r.setup_ms},
-          {"ms_per_frame_median", r.ms_median},
-          {"ms_per_frame_p10", r.ms_p10},
-          {"ms_per_frame_p90", r.ms_p90},
-          {"particle_substeps_per_second", r.rate},
-          {"bytes_per_particle", r.memory.per_particle(r.particles)},
+          {"setup_ms", figure(r.setup_ms)},
+          {"ms_per_frame_median", figure(r.ms_median)},
+          {"ms_per_frame_p10", figure(r.ms_p10)},
+          {"ms_per_frame_p90", figure(r.ms_p90)},
+          {"particle_substeps_per_second", figure(r.rate)},
+          {"bytes_per_particle", figure(r.memory.per_particle(r.particles))},
           {"state_bytes", r.memory.state},
           {"model_bytes", r.memory.model},
           {"workspace_bytes", r.memory.workspace},
-          {"max_strain_last_second", r.strain_last_second},
-          {"max_strain", r.strain_last},
-          {"p99_strain", r.strain_p99},
-          {"penetration_fraction_of_radius", r.penetration},
+          {"max_strain_last_second", figure(r.strain_last_second)},
+          {"max_strain", figure(r.strain_last)},
+          {"p99_strain", figure(r.strain_p99)},
+          {"penetration_fraction_of_radius", figure(r.penetration)},
           {"on_sphere", r.on_sphere},
           {"quality", r.quality},
           {"substep_tries", r.tries}};
 }
 
-void write_results(const std::string& dir, const std::vector<Row>& rows) {
-  fs::create_directories(dir);
+// One CSV field (RFC 4180): quoted when it holds a comma, a quote or a line break, as a
+// skipped run's reason can.
+std::string csv_field(const nlohmann::json& value) {
+  const std::string text = value.is_string() ? value.get<std::string>() : value.dump();
+  if (text.find_first_of(",\"\r\n") == std::string::npos) return text;
+  std::string quoted = "\"";
+  for (char c : text) quoted += c == '"' ? std::string("\"\"") : std::string(1, c);
+  return quoted + "\"";
+}
+
+// Checked before the first run, so hours of benchmark are not lost to a typo at the end.
+void check_results_folder(const BenchOptions& o) {
+  io::check_output_folder("--out", o.out);
+  std::error_code ec;
+  for (const char* name : kResultFiles) {
+    const fs::path file = fs::path(o.out) / name;
+    if (!fs::exists(fs::symlink_status(file, ec))) continue;
+    if (!o.force)
+      throw InputError("--out " + o.out, std::string("already holds ") + name +
+                                             " of an earlier run; choose another folder or pass "
+                                             "--force to replace it");
+    io::check_output("--out", file.string());
+  }
+}
+
+// Returns the problem, or "" when both files were written.
+std::string write_results(const std::string& dir, const std::vector<Row>& rows) {
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  if (ec) return dir + ": cannot create the folder: " + ec.message();
   nlohmann::json all = nlohmann::json::array();
   std::string csv;
   for (const Row& r : rows) {
@@ -310,11 +343,16 @@ void write_results(const std::string& dir, const std::vector<Row>& rows) {
     }
     std::string line;
     for (auto it = j.begin(); it != j.end(); ++it)
-      line += (line.empty() ? "" : ",") + (it->is_string() ? it->get<std::string>() : it->dump());
+      line += (line.empty() ? "" : ",") + csv_field(*it);
     csv += line + "\n";
   }
-  io::write_file_atomically((fs::path(dir) / "bench.json").string(), all.dump(2) + "\n");
-  io::write_file_atomically((fs::path(dir) / "bench.csv").string(), csv);
+  try {
+    io::write_output((fs::path(dir) / kResultFiles[0]).string(), json_text(all));
+    io::write_output((fs::path(dir) / kResultFiles[1]).string(), csv);
+  } catch (const io::OutputError& e) {
+    return e.what();
+  }
+  return "";
 }
 
 int bench(BenchOptions o) {
@@ -346,6 +384,13 @@ int bench(BenchOptions o) {
                  "xpbd to --methods\n");
     return kExitBadInput;
   }
+  const bool xpbd =
+      std::find(o.methods.begin(), o.methods.end(), to_string(Method::xpbd)) != o.methods.end();
+  if (!xpbd && !o.xpbd_options.empty()) {
+    std::fprintf(stderr, "drape: error: %s: applies to xpbd runs only, and --methods has no xpbd\n",
+                 o.xpbd_options.front().c_str());
+    return kExitBadInput;
+  }
   for (const std::string& s : o.scenes) {
     if (s != "hang" && s != "hang-lr" && s != "drape" && s != "drape-mesh") {
       std::fprintf(stderr,
@@ -354,6 +399,12 @@ int bench(BenchOptions o) {
                    s.c_str());
       return kExitBadInput;
     }
+  }
+  try {
+    check_results_folder(o);
+  } catch (const InputError& e) {
+    std::fprintf(stderr, "drape: error: %s\n", e.what());
+    return kExitBadInput;
   }
   for (std::vector<int>* counts : {&o.stiff_sweeps, &o.line_passes}) {
     std::sort(counts->begin(), counts->end());
@@ -379,14 +430,11 @@ int bench(BenchOptions o) {
       }
   bar.finish();
   print_table(rows);
-  try {
-    write_results(o.out, rows);
-    std::printf("results written to %s/bench.json and %s/bench.csv\n", o.out.c_str(),
-                o.out.c_str());
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "drape: error: %s\n", e.what());
-    return 1;
+  if (const std::string problem = write_results(o.out, rows); !problem.empty()) {
+    std::fprintf(stderr, "drape: error: %s\n", problem.c_str());
+    return kExitOutputFailed;
   }
+  std::printf("results written to %s/bench.json and %s/bench.csv\n", o.out.c_str(), o.out.c_str());
   if (int s = interrupt_signal()) return interrupt_exit_code(s);
   return kExitOk;
 }
@@ -400,37 +448,57 @@ std::function<int()> add_bench_command(CLI::App& app) {
   cmd->add_option("--scenes", o->scenes,
                   "Scenes: hang, hang-lr (long-range attachments), drape, drape-mesh (drape's cloth "
                   "as an irregular triangle mesh of N x N vertices)")
-      ->delimiter(',');
+      ->delimiter(',')
+      ->capture_default_str();
   cmd->add_option("--sizes", o->sizes, "Grid sizes N (N×N particles)")
       ->delimiter(',')
-      ->check(CLI::Range(2, 4096));
+      ->check(CLI::Range(2, 4096))
+      ->capture_default_str();
   cmd->add_option("--methods", o->methods, "Methods (default: all)")->delimiter(',');
   cmd->add_option("--precision", o->precisions,
-                  "Precisions: double, single (single runs xpbd only; default: both)")
-      ->delimiter(',');
+                  "Precisions: double, single (single runs xpbd only)")
+      ->delimiter(',')
+      ->capture_default_str();
   cmd->add_option("--threads", o->threads, "Thread counts")
       ->delimiter(',')
-      ->check(CLI::Range(1, 256));
-  cmd->add_option("--frames", o->frames, "Frames per run")->check(CLI::Range(1, 1000000));
+      ->check(CLI::Range(1, 256))
+      ->capture_default_str();
+  cmd->add_option("--frames", o->frames, "Frames per run")
+      ->check(CLI::Range(1, 1000000))
+      ->capture_default_str();
   cmd->add_option("--max-updates", o->max_updates,
                   "Skip runs whose frames × substeps × (particles + springs) exceed this")
-      ->check(CLI::PositiveNumber);
-  cmd->add_option("--out", o->out, "Folder for bench.json and bench.csv");
-  cmd->add_option("--stiff-sweeps", o->stiff_sweeps,
-                  "xpbd: the solver.stiff_sweeps counts the search tries, each with its own "
-                  "substep search; the cheapest run that meets the bar is reported")
-      ->delimiter(',')
-      ->check(CLI::Range(0, 10000));
-  cmd->add_option("--line-passes", o->line_passes,
-                  "xpbd: the solver.line_passes counts the search tries too, each with 0, 1 and 2 "
-                  "stiff sweeps after the passes and each with its own substep search "
-                  "(0: none; not on hang, whose pins have no attachments)")
-      ->delimiter(',')
-      ->check(CLI::Range(0, 10000));
-  cmd->add_flag("!--no-search", o->search,
-                "xpbd: run at its automatic substeps instead of searching for "
-                "the fewest that meet the quality bar");
-  return [cmd, o] { return cmd->parsed() ? bench(*o) : -1; };
+      ->check(finite_range(1.0, 1e18))
+      ->capture_default_str();
+  cmd->add_option("--out", o->out, "Folder for bench.json and bench.csv")
+      ->check(kNonEmpty)
+      ->capture_default_str();
+  cmd->add_flag("--force", o->force, "Replace bench.json and bench.csv of an earlier run in --out");
+  CLI::Option* sweeps =
+      cmd->add_option("--stiff-sweeps", o->stiff_sweeps,
+                      "xpbd: the solver.stiff_sweeps counts the search tries, each with its own "
+                      "substep search; the cheapest run that meets the bar is reported")
+          ->delimiter(',')
+          ->check(CLI::Range(0, 10000))
+          ->capture_default_str();
+  CLI::Option* lines =
+      cmd->add_option("--line-passes", o->line_passes,
+                      "xpbd: the solver.line_passes counts the search tries too, each with 0, 1 "
+                      "and 2 stiff sweeps after the passes and each with its own substep search "
+                      "(0: none; not on hang, whose pins have no attachments)")
+          ->delimiter(',')
+          ->check(CLI::Range(0, 10000))
+          ->capture_default_str();
+  CLI::Option* no_search = cmd->add_flag("!--no-search", o->search,
+                                         "xpbd: run at its automatic substeps instead of "
+                                         "searching for the fewest that meet the quality bar");
+  cmd->footer(exit_codes_help({kExitOk, kExitBadInput, kExitOutputFailed, 129, 130, 143}));
+  return [cmd, o, sweeps, lines, no_search] {
+    if (!cmd->parsed()) return -1;
+    for (const CLI::Option* xpbd_only : {sweeps, lines, no_search})
+      if (xpbd_only->count() > 0) o->xpbd_options.push_back(xpbd_only->get_name());
+    return bench(*o);
+  };
 }
 
 }  // namespace drape::app

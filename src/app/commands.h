@@ -1,5 +1,6 @@
 // The `drape` subcommands. Each registers its options on the CLI11 app and returns the exit
-// code: 0 success, 2 bad input, 3 diverged, 4 no display or OpenGL, 130/143 interrupted.
+// code: 0 success, 2 bad input, 3 diverged, 4 no display or OpenGL, 5 an output could not be
+// written, 129/130/143 interrupted (the README's table says which command returns which).
 #pragma once
 
 #include <CLI/CLI.hpp>
@@ -12,6 +13,10 @@ inline constexpr int kExitBadInput = 2;
 inline constexpr int kExitDiverged = 3;
 /// No display (drape view) or no EGL/OpenGL context (drape render) could be had.
 inline constexpr int kExitNoGraphics = 4;
+/// The work was done (its summary printed) but an output could not be written: a full disk, a
+/// folder removed during the run, a pipe whose reader left. Checked before the work as far as
+/// it can be, where it is exit 2.
+inline constexpr int kExitOutputFailed = 5;
 
 /// Each registers a subcommand; the returned function runs it if it was given (else -1).
 std::function<int()> add_run_command(CLI::App& app);
@@ -26,10 +31,6 @@ std::function<int()> add_compare_command(CLI::App& app);
 
 /// Registers `drape view` (the interactive viewer).
 std::function<int()> add_view_command(CLI::App& app);
-
-/// Parses "WxH" (e.g. "960x540"); throws InputError naming `option` when it is not a size in
-/// [16, 8192]².
-void parse_size(const std::string& option, const std::string& text, int& width, int& height);
 
 /// A data folder shipped with drape ("scenes", "bench"): $DRAPE_SCENES or $DRAPE_BENCH, else
 /// the folder of that name in the working directory, else the source tree's.

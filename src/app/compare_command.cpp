@@ -9,10 +9,12 @@
 #include <omp.h>
 
 #include "app/commands.h"
+#include "app/options.h"
 #include "app/runner.h"
 #include "app/terminal.h"
 #include "drape/error.h"
 #include "io/scene_io.h"
+#include "io/shown_text.h"
 
 namespace drape::app {
 
@@ -25,6 +27,7 @@ struct CompareOptions {
   std::vector<std::string> sets;
   int threads = 0;
   bool markdown = false;
+  bool force = false;
 };
 
 struct Row {
@@ -98,58 +101,92 @@ int compare(const CompareOptions& o) {
     const std::optional<Method> m = method_from_string(name);
     if (!m) {
       std::fprintf(stderr, "drape: error: --methods: unknown method \"%s\"; expected %s\n",
-                   name.c_str(), method_names().c_str());
+                   io::shown(name).c_str(), method_names().c_str());
       return kExitBadInput;
     }
     methods.push_back(*m);
   }
   std::vector<std::string> sets = o.sets;
-  if (o.seconds) sets.push_back("duration=" + std::to_string(*o.seconds));
-  SceneDef def;
+  if (o.seconds) sets.push_back("duration=" + exact_number(*o.seconds));
+  const std::string source = io::source_name(o.scene);
+
+  // Each method's scene is checked with that method set, after the overrides: a key may be
+  // valid for one method and not another (solver.precision "single" is xpbd's alone). A method
+  // its scene refuses gets a row saying why; a scene no method takes is bad input.
+  std::vector<Row> rows(methods.size());
+  std::vector<std::optional<SceneDef>> defs(methods.size());
+  std::vector<std::string> problems;
   try {
-    def = io::load_scene(o.scene, sets);
+    const nlohmann::json scene = io::load_scene_json(o.scene, sets);
+    for (size_t k = 0; k < methods.size(); ++k) {
+      rows[k].method = to_string(methods[k]);
+      nlohmann::json j = scene;
+      io::apply_override(j, std::string("solver.method=") + to_string(methods[k]));
+      try {
+        defs[k] = io::parse_scene(j, source, io::scene_folder(o.scene));
+      } catch (const InputError& e) {
+        rows[k].status = "refused: " + e.problem();
+        if (std::find(problems.begin(), problems.end(), e.what()) == problems.end())
+          problems.push_back(e.what());
+        continue;
+      }
+      if (!o.force) {
+        try {
+          check_memory(*defs[k]);
+        } catch (const InputError& e) {
+          throw InputError(source + ": " + e.path(), e.problem());
+        }
+      }
+    }
   } catch (const InputError& e) {
     std::fprintf(stderr, "drape: error: %s\n", e.what());
     return kExitBadInput;
   }
-  install_interrupt_handlers();
+  const auto first = std::find_if(defs.begin(), defs.end(), [](const auto& d) { return d; });
+  if (first == defs.end()) {
+    for (const std::string& p : problems) std::fprintf(stderr, "drape: error: %s\n", p.c_str());
+    return kExitBadInput;
+  }
+  const SceneDef& def = **first;
   const int64_t frames = frame_count(def);
-  std::vector<Row> rows;
-  for (Method m : methods) {
-    Row row;
-    row.method = to_string(m);
-    SceneDef d = def;
-    d.solver.method = m;
+
+  install_interrupt_handlers();
+  bool any_ran = false;
+  for (size_t k = 0; k < methods.size() && !interrupt_signal(); ++k) {
+    Row& row = rows[k];
+    if (!defs[k]) continue;
     std::optional<Simulation> sim;
     try {
-      sim.emplace(d);
+      sim.emplace(*defs[k]);
+      if (!o.force) check_work(*sim, frames);
     } catch (const InputError& e) {
       row.status = "refused: " + e.problem();
-      rows.push_back(row);
       continue;
     }
     RunHooks hooks;
-    hooks.progress_label = def.name + " " + row.method;  // drawn only on a terminal
+    hooks.progress_label = io::shown(def.name, 30) + " " + row.method;  // only on a terminal
     const RunResult run = run_frames(*sim, frames, hooks);
+    any_ran = true;
     row.ms = run.median_ms();
     row.substeps = sim->substeps_per_frame();
     row.d = sim->diagnostics();
     row.status = run.status == RunStatus::ok ? "ok"
                  : sim->diverged() ? "diverged at frame " + std::to_string(sim->diverged_frame())
                                    : "interrupted";
-    rows.push_back(row);
-    if (run.status == RunStatus::interrupted) break;
   }
-  const std::string cloth = def.cloth.mesh ? "mesh " + def.cloth.mesh_file + ", " +
+  // The methods an interrupt left unrun have no row.
+  std::erase_if(rows, [](const Row& r) { return r.status.empty(); });
+  const std::string cloth = def.cloth.mesh ? "mesh " + io::shown(def.cloth.mesh_file) + ", " +
                                                  std::to_string(particle_count(def.cloth))
                                            : std::to_string(def.cloth.cols) + "x" +
                                                  std::to_string(def.cloth.rows);
   std::printf("%s: %s particles, %lld frames of %.4g s (%.3g s simulated), %d thread(s)\n",
-              def.name.c_str(), cloth.c_str(), static_cast<long long>(frames), def.solver.dt,
+              io::shown(def.name).c_str(), cloth.c_str(), static_cast<long long>(frames),
+              def.solver.dt,
               static_cast<double>(frames) * def.solver.dt, omp_get_max_threads());
   print_table(rows, o.markdown);
   if (int s = interrupt_signal()) return interrupt_exit_code(s);
-  return kExitOk;
+  return any_ran ? kExitOk : kExitBadInput;
 }
 
 }  // namespace
@@ -158,17 +195,22 @@ std::function<int()> add_compare_command(CLI::App& app) {
   auto o = std::make_shared<CompareOptions>();
   CLI::App* cmd = app.add_subcommand(
       "compare", "Run a scene with each method and print their figures side by side");
-  cmd->add_option("scene", o->scene, "Scene file (JSON)")->required();
+  cmd->add_option("scene", o->scene, "Scene file (JSON), or - to read it from standard input")
+      ->required();
   cmd->add_option("--methods", o->methods, "Methods to compare, in order (default: all)")
       ->delimiter(',')
       ->take_all();
-  cmd->add_option("--seconds", o->seconds, "Simulated duration in s (overrides the scene's)");
+  cmd->add_option("--seconds", o->seconds, "Simulated duration in s (overrides the scene's)")
+      ->check(finite_range(0.0, 1e7));
   cmd->add_option("--set", o->sets, "Override a scene key: KEY=VALUE, e.g. cloth.mass=2")
       ->take_all()
       ->allow_extra_args(false);
   cmd->add_option("--threads", o->threads, "Threads to use (default: all cores)")
       ->check(CLI::Range(1, 1024));
   cmd->add_flag("--markdown", o->markdown, "Print the table as Markdown");
+  cmd->add_flag("--force", o->force, "Run beyond the memory and work budgets");
+  cmd->footer(exit_codes_help({kExitOk, kExitBadInput, 129, 130, 143}) +
+              "\nA method that diverges or is refused says so in its row; the exit code is 0.");
   return [cmd, o] { return cmd->parsed() ? compare(*o) : -1; };
 }
 

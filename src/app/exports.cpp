@@ -5,8 +5,10 @@
 #include <cstdio>
 #include <filesystem>
 
+#include "app/frame_folder.h"
 #include "drape/error.h"
 #include "io/mesh_export.h"
+#include "io/output_file.h"
 
 namespace drape::app {
 
@@ -37,18 +39,10 @@ bool is_cache(ExportFormat f) {
   return f == ExportFormat::pc2 || f == ExportFormat::glb;
 }
 
-void create_parent(const std::string& option, const fs::path& dir) {
-  if (dir.empty()) return;
-  std::error_code ec;
-  fs::create_directories(dir, ec);
-  if (ec)
-    throw InputError(option, "cannot create the folder " + dir.string() + ": " + ec.message());
-}
+const std::vector<std::string> kFrameExtensions{"obj", "ply"};
 
-std::string frame_file(const std::string& dir, int64_t frame, const char* ext) {
-  char name[64];
-  std::snprintf(name, sizeof name, "frame_%05lld.%s", static_cast<long long>(frame), ext);
-  return (fs::path(dir) / name).string();
+std::string option_of(const ExportTarget& t) {
+  return "--export " + (t.dir.empty() ? t.file : t.dir);
 }
 
 }  // namespace
@@ -81,27 +75,18 @@ ExportTarget resolve_export(const std::string& path, const std::string& format,
   return t;
 }
 
-void prepare_export(const ExportTarget& t, const Simulation& sim, int64_t frames, bool force) {
-  const std::string option = "--export " + (t.dir.empty() ? t.file : t.dir);
-  std::error_code ec;
-  if (!t.dir.empty() && fs::exists(t.dir, ec) && !fs::is_directory(t.dir, ec))
-    throw InputError(option, "exists and is not a folder");
+void check_export(const ExportTarget& t, const Simulation& sim, int64_t frames, bool force) {
+  const std::string option = option_of(t);
   if (!is_cache(t.format)) {
-    // A folder holding frames of an earlier run is refused, so runs never mix.
-    if (fs::exists(t.dir, ec) && !force) {
-      for (const auto& entry : fs::directory_iterator(t.dir, ec)) {
-        if (entry.path().filename().string().rfind("frame_", 0) == 0)
-          throw InputError(option,
-                           "already holds frames of an earlier run; choose another folder or "
-                           "pass --force to overwrite");
-      }
-    }
-    create_parent(option, t.dir);
+    check_frame_folder("--export", t.dir, kFrameExtensions, force);
     return;
   }
+  std::error_code ec;
+  // A cache named into a folder (--export FOLDER --format pc2) gets the folder made, as frames do.
+  if (!t.dir.empty()) io::check_output_folder("--export", t.dir);
   for (const std::string& f : {t.file, t.rest_mesh}) {
     if (f.empty()) continue;
-    if (fs::is_directory(f, ec)) throw InputError(option, f + " is a folder");
+    if (t.dir.empty() || fs::exists(t.dir, ec)) io::check_output("--export", f);
     if (fs::exists(f, ec) && !force)
       throw InputError(option, f + " already exists; choose another name or pass --force to "
                                    "overwrite it");
@@ -119,7 +104,14 @@ void prepare_export(const ExportTarget& t, const Simulation& sim, int64_t frames
       throw InputError(option, problem);
     }
   }
-  create_parent(option, fs::path(t.file).parent_path());
+}
+
+int64_t prepare_export(const ExportTarget& t) {
+  if (!is_cache(t.format)) return prepare_frame_folder("--export", t.dir, kFrameExtensions);
+  std::error_code ec;
+  if (!t.dir.empty() && !fs::create_directories(t.dir, ec) && ec)
+    throw InputError("--export " + t.dir, "cannot create the folder: " + ec.message());
+  return 0;
 }
 
 Exporter::Exporter(ExportTarget target, int64_t frames, std::string generator)
@@ -150,7 +142,7 @@ void Exporter::write(const Simulation& sim) {
     case ExportFormat::obj:
     case ExportFormat::ply:
       io::write_mesh(
-          frame_file(target_.dir, sim.frame(), to_string(target_.format)),
+          app::frame_file(target_.dir, sim.frame(), to_string(target_.format)),
           target_.format == ExportFormat::obj ? io::MeshFormat::obj : io::MeshFormat::ply, model,
           state);
       break;

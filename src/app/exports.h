@@ -32,10 +32,15 @@ struct ExportTarget {
 ExportTarget resolve_export(const std::string& path, const std::string& format,
                             const std::string& scene, int every);
 
-/// Before the run: refuses to overwrite an earlier run's output unless `force` (frame files in
-/// the folder, or the cache and its rest mesh), refuses a .glb that would pass the format's
-/// 4 GiB, and creates the folders. Throws InputError.
-void prepare_export(const ExportTarget& target, const Simulation& sim, int64_t frames, bool force);
+/// Before the run, changing nothing: that every file can be written (io::check_output,
+/// check_frame_folder), that no earlier run's output would be overwritten unless `force` (frame
+/// files in the folder, or the cache and its rest mesh), and that a .glb stays within the
+/// format's 4 GiB. Throws InputError.
+void check_export(const ExportTarget& target, const Simulation& sim, int64_t frames, bool force);
+
+/// Then, once the run will go ahead: makes the frame folder and removes an earlier run's frames
+/// from it (check_export let them through only with --force). Returns how many were removed.
+int64_t prepare_export(const ExportTarget& target);
 
 /// Writes one run's frames as they come.
 class Exporter {

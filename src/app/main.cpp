@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "app/commands.h"
+#include "app/options.h"
 #include "drape/error.h"
 
 namespace drape::app {
@@ -21,22 +22,6 @@ std::string data_dir(const std::string& name) {
   return std::string(DRAPE_SOURCE_DIR) + "/" + name;
 }
 
-void parse_size(const std::string& option, const std::string& text, int& width, int& height) {
-  // Digits, an x, digits: nothing before, between or after.
-  const size_t x = text.find_first_of("xX");
-  auto digits = [](const std::string& t) {
-    return !t.empty() && t.size() <= 5 &&
-           std::all_of(t.begin(), t.end(), [](unsigned char c) { return std::isdigit(c); });
-  };
-  if (x != std::string::npos && digits(text.substr(0, x)) && digits(text.substr(x + 1))) {
-    width = std::stoi(text.substr(0, x));
-    height = std::stoi(text.substr(x + 1));
-    if (width >= 16 && height >= 16 && width <= 8192 && height <= 8192) return;
-  }
-  throw InputError(option,
-                   "\"" + text + "\" is not a size WIDTHxHEIGHT in pixels, each 16 to 8192");
-}
-
 }  // namespace drape::app
 
 int main(int argc, char** argv) {
@@ -44,6 +29,9 @@ int main(int argc, char** argv) {
   CLI::App app("drape: a fast, stable cloth simulator (mass-spring)", "drape");
   app.set_version_flag("--version", DRAPE_VERSION);
   app.require_subcommand(1);
+  app.footer(exit_codes_help({kExitOk, kExitBadInput, kExitDiverged, kExitNoGraphics,
+                              kExitOutputFailed, 129, 130, 143}) +
+             "\nEach command's --help lists the codes it returns, and its options' defaults.");
   std::vector<std::function<int()>> commands{add_run_command(app), add_compare_command(app),
                                               add_bench_command(app), add_mesh_command(app)};
 #ifdef DRAPE_HAVE_VIEWER

@@ -14,10 +14,14 @@
 #include <vector>
 
 #include "app/commands.h"
+#include "app/frame_folder.h"
+#include "app/options.h"
 #include "app/runner.h"
 #include "app/terminal.h"
 #include "drape/error.h"
+#include "io/output_file.h"
 #include "io/scene_io.h"
+#include "io/shown_text.h"
 #include "render/offscreen.h"
 #include "render/renderer.h"
 
@@ -26,6 +30,8 @@ namespace drape::app {
 namespace fs = std::filesystem;
 
 namespace {
+
+const std::vector<std::string> kPictureExtensions{"png"};
 
 struct RenderOptions {
   std::string scene;
@@ -57,28 +63,6 @@ bool on_path(const std::string& program) {
   return false;
 }
 
-// A folder holding frames of an earlier render is refused, so renders never mix.
-void prepare_out_dir(const std::string& dir, bool force) {
-  std::error_code ec;
-  if (fs::exists(dir, ec) && !fs::is_directory(dir, ec))
-    throw InputError("--out " + dir, "exists and is not a folder");
-  if (fs::exists(dir, ec) && !force) {
-    for (const auto& entry : fs::directory_iterator(dir, ec))
-      if (entry.path().filename().string().rfind("frame_", 0) == 0)
-        throw InputError("--out " + dir,
-                         "already holds frames of an earlier render; choose another folder or "
-                         "pass --force to overwrite");
-  }
-  fs::create_directories(dir, ec);
-  if (ec) throw InputError("--out " + dir, "cannot create the folder: " + ec.message());
-}
-
-std::string frame_file(const std::string& dir, int64_t frame) {
-  char name[64];
-  std::snprintf(name, sizeof name, "frame_%05lld.png", static_cast<long long>(frame));
-  return (fs::path(dir) / name).string();
-}
-
 // One shell word, whatever the text holds.
 std::string shell_quote(const std::string& text) {
   std::string quoted = "'";
@@ -89,7 +73,7 @@ std::string shell_quote(const std::string& text) {
 // Frames go to ffmpeg as raw RGBA on its standard input.
 class VideoPipe {
  public:
-  VideoPipe(const std::string& file, int width, int height, double fps) {
+  VideoPipe(const std::string& file, int width, int height, double fps) : file_(file) {
     char format[256];
     std::snprintf(format, sizeof format, "-f rawvideo -pix_fmt rgba -s %dx%d -r %.6g -i - ", width,
                   height, fps);
@@ -100,13 +84,15 @@ class VideoPipe {
                                 shell_quote(file);
     // An ffmpeg that quits early must fail a write, not kill drape with SIGPIPE.
     std::signal(SIGPIPE, SIG_IGN);
-    pipe_ = popen(command.c_str(), "w");
-    if (!pipe_) throw std::runtime_error("cannot start ffmpeg");
+    // In a session of its own, so the Ctrl-C that stops drape at the end of a frame does not
+    // kill ffmpeg mid-file: drape closes the pipe, and ffmpeg finishes the video.
+    pipe_ = popen(("exec setsid -w " + command).c_str(), "w");
+    if (!pipe_) throw io::OutputError(file + ": cannot start ffmpeg");
   }
   ~VideoPipe() { close(); }
   void write(const std::vector<uint8_t>& rgba) {
     if (pipe_ && std::fwrite(rgba.data(), 1, rgba.size(), pipe_) != rgba.size())
-      throw std::runtime_error("ffmpeg stopped taking frames");
+      throw io::OutputError(file_ + ": ffmpeg stopped taking frames");
   }
   int close() {
     if (!pipe_) return 0;
@@ -116,6 +102,7 @@ class VideoPipe {
   }
 
  private:
+  std::string file_;
   FILE* pipe_ = nullptr;
 };
 
@@ -123,25 +110,38 @@ int render(const RenderOptions& o) {
   using clock = std::chrono::steady_clock;
   std::optional<Simulation> sim;
   int width = 0, height = 0;
-  int64_t frames = 0;
+  int64_t frames = 0, replaced = 0;
   std::string out = o.out;
+  const std::string source = io::source_name(o.scene);
   try {
     parse_size("--size", o.size, width, height);
     const SceneDef def = io::load_scene(o.scene, o.sets);
     frames = o.frames ? *o.frames : frame_count(def);
+    if (!o.video.empty()) {
+      if (!on_path("ffmpeg"))
+        throw InputError("--video",
+                         "ffmpeg is not installed (apt-get install ffmpeg); without "
+                         "--video, drape render writes the frames as PNG files");
+      if (o.video == "-" || fs::path(o.video).extension().string().size() < 2)
+        throw InputError("--video " + o.video,
+                         "needs a file name with an extension (.mp4, .mkv, ...): ffmpeg takes "
+                         "the container from it");
+      io::check_output("--video", o.video);
+      check_not_the_scene("--video", o.video, o.scene);
+    }
+    // The scene's name makes one folder inside out/, whatever characters it holds.
+    if (out.empty() && o.video.empty())
+      out = (fs::path("out") / io::file_name_from(def.name)).string();
+    if (!out.empty()) check_frame_folder("--out", out, kPictureExtensions, o.force);
+    if (!o.force)
+      check_memory(def, render::estimated_picture_bytes(width, height), "--size " + o.size);
     try {
-      if (!o.force) check_memory(def);
       sim.emplace(def);
       if (!o.force) check_work(*sim, frames);
     } catch (const InputError& e) {
-      throw InputError(o.scene + ": " + e.path(), e.problem());
+      throw InputError(source + ": " + e.path(), e.problem());
     }
-    if (!o.video.empty() && !on_path("ffmpeg"))
-      throw InputError("--video",
-                       "ffmpeg is not installed (apt-get install ffmpeg); without "
-                       "--video, drape render writes the frames as PNG files");
-    if (out.empty() && o.video.empty()) out = (fs::path("out") / def.name).string();
-    if (!out.empty()) prepare_out_dir(out, o.force);
+    if (!out.empty()) replaced = prepare_frame_folder("--out", out, kPictureExtensions);
   } catch (const InputError& e) {
     std::fprintf(stderr, "drape: error: %s\n", e.what());
     return kExitBadInput;
@@ -167,10 +167,15 @@ int render(const RenderOptions& o) {
   draw.springs = o.springs;
 
   std::unique_ptr<VideoPipe> video;
-  if (!o.video.empty())
-    video =
-        std::make_unique<VideoPipe>(o.video, width, height, 1.0 / (sim->def().solver.dt * o.every));
-
+  if (!o.video.empty()) {
+    try {
+      video = std::make_unique<VideoPipe>(o.video, width, height,
+                                          1.0 / (sim->def().solver.dt * o.every));
+    } catch (const io::OutputError& e) {
+      std::fprintf(stderr, "drape: error: %s\n", e.what());
+      return kExitOutputFailed;
+    }
+  }
   int64_t written = 0;
   double render_ms = 0.0;
   std::string last_file;
@@ -182,45 +187,51 @@ int render(const RenderOptions& o) {
     const std::vector<uint8_t> pixels = context->read();
     render_ms += std::chrono::duration<double, std::milli>(clock::now() - t0).count();
     if (!out.empty()) {
-      last_file = frame_file(out, s.frame());
-      render::write_png(last_file, width, height, pixels);
+      const std::string file = frame_file(out, s.frame(), "png");
+      render::write_png(file, width, height, pixels);
+      last_file = file;
     }
     if (video) video->write(pixels);
     ++written;
   };
   RunHooks hooks;
-  if (!o.quiet) hooks.progress_label = sim->def().name;
+  if (!o.quiet) hooks.progress_label = io::shown(sim->def().name, 30);
   hooks.after_frame = [&](const Simulation& s) {
     if (s.frame() % o.every == 0 || s.frame() == frames) draw_frame(s);
   };
   install_interrupt_handlers();
-  RunResult result;
-  try {
-    result = run_frames(*sim, frames, hooks);
-    // A stopped render still draws where it stopped, so the last picture is the last state.
-    if (result.status == RunStatus::interrupted && sim->frame() % o.every != 0) draw_frame(*sim);
-  } catch (const std::exception& e) {  // a PNG that cannot be written, ffmpeg gone
-    std::fprintf(stderr, "drape: error: %s\n", e.what());
-    return 1;
+  RunResult result = run_frames(*sim, frames, hooks);
+  std::vector<std::string> output_errors;
+  // A stopped render still draws where it stopped, so the last picture is the last state.
+  if (result.status == RunStatus::interrupted && sim->frame() % o.every != 0) {
+    try {
+      draw_frame(*sim);
+    } catch (const io::OutputError& e) {
+      output_errors.push_back(e.what());
+    }
   }
-  if (video && video->close() != 0) {
-    std::fprintf(stderr, "drape: error: ffmpeg failed to write %s\n", o.video.c_str());
-    return 1;
-  }
+  if (video && video->close() != 0)
+    output_errors.push_back(o.video + ": ffmpeg failed to write the video");
 
   if (!o.quiet) {
     const double sim_ms = result.median_ms();
     std::printf(
         "%s: %lld frames simulated (%.3f ms/frame), %lld drawn at %dx%d in %.1f ms each "
         "(%s, %d samples)\n",
-        sim->def().name.c_str(), static_cast<long long>(result.frames), sim_ms,
+        io::shown(sim->def().name).c_str(), static_cast<long long>(result.frames), sim_ms,
         static_cast<long long>(written), width, height, written ? render_ms / written : 0.0,
         context->renderer_name(), context->samples());
     if (!last_file.empty())
       std::printf("  pictures in %s/, the last: %s\n", out.c_str(), last_file.c_str());
-    if (video) std::printf("  video: %s\n", o.video.c_str());
+    if (replaced > 0)
+      std::printf("  an earlier render's %lld pictures were removed first\n",
+                  static_cast<long long>(replaced));
+    if (video && output_errors.empty()) std::printf("  video: %s\n", o.video.c_str());
+    std::fflush(stdout);
   }
-  return exit_code(o.scene, *sim, result, "the frames so far are kept");
+  const int code = exit_code(source, *sim, result, "the frames so far are kept");
+  for (const std::string& e : output_errors) std::fprintf(stderr, "drape: error: %s\n", e.c_str());
+  return output_errors.empty() ? code : kExitOutputFailed;
 }
 
 }  // namespace
@@ -229,27 +240,39 @@ std::function<int()> add_render_command(CLI::App& app) {
   auto o = std::make_shared<RenderOptions>();
   CLI::App* cmd =
       app.add_subcommand("render", "Render a scene's frames to PNG without a display (EGL, Mesa)");
-  cmd->add_option("scene", o->scene, "Scene file (JSON)")->required();
+  cmd->add_option("scene", o->scene, "Scene file (JSON), or - to read it from standard input")
+      ->required();
   cmd->add_option("--frames", o->frames, "Frames to simulate (default: the scene's duration)")
       ->check(CLI::Range(int64_t{0}, int64_t{1} << 40));
   cmd->add_option("--every", o->every, "Draw every Kth frame (and always the first and last)")
-      ->check(CLI::Range(1, 1 << 30));
-  cmd->add_option("--out", o->out, "Folder for frame_NNNNN.png (default: out/SCENE_NAME)");
+      ->check(CLI::Range(1, 1 << 30))
+      ->capture_default_str();
+  cmd->add_option("--out", o->out,
+                  "Folder for frame_NNNNN.png (default: out/NAME, NAME the scene's name with "
+                  "characters other than letters, digits and ._-+ made _)")
+      ->check(kNonEmpty);
   cmd->add_option("--size", o->size, "Image size WIDTHxHEIGHT in pixels")->capture_default_str();
   cmd->add_option("--set", o->sets, "Override a scene key: KEY=VALUE, e.g. cloth.mass=2")
       ->take_all()
       ->allow_extra_args(false);
-  cmd->add_option("--video", o->video, "Also encode the frames into this video with ffmpeg");
-  cmd->add_option("--yaw", o->yaw, "Camera angle around the vertical axis, degrees");
+  cmd->add_option("--video", o->video,
+                  "Also encode the frames into this video with ffmpeg (FILE.mp4, .mkv, ...)")
+      ->check(kNonEmpty);
+  cmd->add_option("--yaw", o->yaw, "Camera angle around the vertical axis, degrees")
+      ->check(finite_range(-360.0, 360.0));
   cmd->add_option("--pitch", o->pitch, "Camera angle above the horizon, degrees")
-      ->check(CLI::Range(-89.0, 89.0));
-  cmd->add_option("--zoom", o->zoom, "Zoom in by this many scroll notches (negative: out)");
+      ->check(finite_range(-89.0, 89.0));
+  cmd->add_option("--zoom", o->zoom, "Zoom in by this many scroll notches (negative: out)")
+      ->check(finite_range(-100.0, 100.0))
+      ->capture_default_str();
   cmd->add_flag("--wireframe", o->wireframe, "Draw the triangle edges");
   cmd->add_flag("--springs", o->springs, "Draw the structural springs coloured by strain");
   cmd->add_flag("--quiet", o->quiet, "No progress bar and no summary");
   cmd->add_flag("--force", o->force,
                 "Run beyond the memory and work budgets, and write into a folder that holds an "
-                "earlier render's frames");
+                "earlier render's frames (which are removed first)");
+  cmd->footer(exit_codes_help(
+      {kExitOk, kExitBadInput, kExitDiverged, kExitNoGraphics, kExitOutputFailed, 129, 130, 143}));
   return [cmd, o] { return cmd->parsed() ? render(*o) : -1; };
 }
 

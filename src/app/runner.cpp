@@ -8,6 +8,7 @@
 #include "app/commands.h"
 #include "app/terminal.h"
 #include "drape/error.h"
+#include "io/output_file.h"
 
 namespace drape::app {
 
@@ -17,8 +18,20 @@ RunResult run_frames(Simulation& sim, int64_t frames, const RunHooks& hooks) {
   r.frame_ms.reserve(static_cast<size_t>(std::min<int64_t>(frames, 1 << 20)));
   Progress bar(hooks.progress_label, frames, !hooks.progress_label.empty());
   const auto start = clock::now();
-  if (hooks.after_frame) hooks.after_frame(sim);
-  for (int64_t f = 0; f < frames; ++f) {
+  // False when an output failed: there is no point simulating what cannot be kept.
+  auto after_frame = [&] {
+    if (!hooks.after_frame) return true;
+    try {
+      hooks.after_frame(sim);
+      return true;
+    } catch (const io::OutputError& e) {
+      r.status = RunStatus::output_failed;
+      r.output_error = e.what();
+      return false;
+    }
+  };
+  const bool started = after_frame();
+  for (int64_t f = 0; started && f < frames; ++f) {
     const auto t0 = clock::now();
     const bool ok = sim.step();
     r.frame_ms.push_back(std::chrono::duration<double, std::milli>(clock::now() - t0).count());
@@ -27,7 +40,7 @@ RunResult run_frames(Simulation& sim, int64_t frames, const RunHooks& hooks) {
       r.status = RunStatus::diverged;
       break;
     }
-    if (hooks.after_frame) hooks.after_frame(sim);
+    if (!after_frame()) break;
     if (int s = interrupt_signal()) {
       r.status = RunStatus::interrupted;
       r.signal = s;
@@ -64,6 +77,22 @@ void check_memory(const SceneDef& def, const Budget& budget) {
                 static_cast<double>(budget.bytes) / (1 << 30),
                 mesh ? "use a coarser mesh" : "lower the resolution");
   throw InputError(mesh ? "cloth.mesh" : "cloth.resolution", problem);
+}
+
+void check_memory(const SceneDef& def, int64_t picture_bytes, const std::string& option,
+                  const Budget& budget) {
+  check_memory(def, budget);
+  const int64_t cloth = estimated_memory(def);
+  if (cloth + picture_bytes <= budget.bytes) return;
+  char problem[256];
+  std::snprintf(problem, sizeof problem,
+                "drawing at this size takes about %.1f GiB, which with the cloth's %.1f GiB is "
+                "more than the %.1f GiB budget; choose a smaller size, or pass --force to draw "
+                "it anyway",
+                static_cast<double>(picture_bytes) / (1 << 30),
+                static_cast<double>(cloth) / (1 << 30),
+                static_cast<double>(budget.bytes) / (1 << 30));
+  throw InputError(option, problem);
 }
 
 void check_work(const Simulation& sim, int64_t frames, const Budget& budget) {
@@ -108,6 +137,11 @@ int exit_code(const std::string& scene, const Simulation& sim, const RunResult& 
     std::fprintf(stderr, "drape: interrupted at frame %lld; %s\n",
                  static_cast<long long>(sim.frame()), kept);
     return interrupt_exit_code(run.signal);
+  }
+  if (run.status == RunStatus::output_failed) {
+    std::fprintf(stderr, "drape: error: %s; the run stopped at frame %lld\n",
+                 run.output_error.c_str(), static_cast<long long>(sim.frame()));
+    return kExitOutputFailed;
   }
   return kExitOk;
 }

@@ -14,10 +14,13 @@ namespace drape::app {
 // The run's record and its stats live with the stats writer, which the Python module shares.
 using io::RunResult;
 using io::RunStatus;
+using io::figure;
+using io::json_text;
 using io::stats_json;
 
 struct RunHooks {
-  /// Called after each frame (and once before the first, with frame() == 0). May throw.
+  /// Called after each frame (and once before the first, with frame() == 0). May throw; an
+  /// io::OutputError stops the run with status output_failed.
   std::function<void(const Simulation&)> after_frame;
   /// Text after the progress bar; empty: no bar.
   std::string progress_label;
@@ -37,6 +40,11 @@ struct Budget {
 
 /// Throws InputError (at cloth.resolution) if the cloth would not fit the budget.
 void check_memory(const SceneDef& def, const Budget& budget = {});
+
+/// Throws InputError (at `option`, e.g. "--size 8192x8192") if a picture of `picture_bytes`
+/// (render::estimated_picture_bytes) and the cloth together would not fit the budget.
+void check_memory(const SceneDef& def, int64_t picture_bytes, const std::string& option,
+                  const Budget& budget = {});
 /// Throws InputError (at duration) if `frames` frames of `sim` would exceed the budget.
 void check_work(const Simulation& sim, int64_t frames, const Budget& budget = {});
 
@@ -45,7 +53,8 @@ void check_work(const Simulation& sim, int64_t frames, const Budget& budget = {}
 std::string method_text(const Simulation& sim);
 
 /// The exit code for a finished run: 0, 3 (diverged: reported with the frame, the reason and a
-/// hint) or 130/143 (interrupted: reported with the frame and what was kept, `kept`).
+/// hint), 129/130/143 (interrupted: reported with the frame and what was kept, `kept`) or 5 (an
+/// output failed during the run: reported with the frame).
 int exit_code(const std::string& scene, const Simulation& sim, const RunResult& run,
               const char* kept);
 

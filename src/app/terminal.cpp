@@ -37,12 +37,24 @@ void Progress::finish() {
 
 namespace {
 volatile std::sig_atomic_t g_signal = 0;
-extern "C" void on_signal(int signal) { g_signal = signal; }
+extern "C" void on_signal(int signal) {
+  // A second signal means now: a frame of a large cloth can take minutes. Back to the default
+  // action, which ends the process (signal and raise are async-signal-safe).
+  if (g_signal != 0) {
+    std::signal(signal, SIG_DFL);
+    std::raise(signal);
+    return;
+  }
+  g_signal = signal;
+}
 }  // namespace
 
 void install_interrupt_handlers() {
   std::signal(SIGINT, on_signal);
   std::signal(SIGTERM, on_signal);
+  // A closed terminal stops the run as Ctrl-C does, but a hangup that was ignored (nohup)
+  // stays ignored.
+  if (std::signal(SIGHUP, on_signal) == SIG_IGN) std::signal(SIGHUP, SIG_IGN);
 }
 
 int interrupt_signal() { return g_signal; }

@@ -1,5 +1,6 @@
 // Terminal output for long runs: a progress bar on a terminal, nothing when piped; and the
-// SIGINT/SIGTERM flag that lets a run finish its frame, write what it has and exit cleanly.
+// SIGINT/SIGTERM/SIGHUP flag that lets a run finish its frame, write what it has and exit
+// cleanly.
 #pragma once
 
 #include <chrono>
@@ -26,11 +27,12 @@ class Progress {
   std::chrono::steady_clock::time_point last_{};
 };
 
-/// Installs handlers for SIGINT and SIGTERM that only record the signal.
+/// Installs handlers for SIGINT, SIGTERM and SIGHUP (unless ignored, as under nohup) that
+/// record the first signal; a second one ends the process at once, as if unhandled.
 void install_interrupt_handlers();
 /// The signal received since install_interrupt_handlers(), or 0.
 int interrupt_signal();
-/// The conventional exit code for a run stopped by `signal`: 128 + signal (130, 143).
+/// The conventional exit code for a run stopped by `signal`: 128 + signal (129, 130, 143).
 inline int interrupt_exit_code(int signal) { return 128 + signal; }
 
 }  // namespace drape::app

@@ -11,10 +11,13 @@
 #include <vector>
 
 #include "app/commands.h"
+#include "app/options.h"
 #include "app/runner.h"
 #include "app/viewer.h"
 #include "drape/error.h"
+#include "io/output_file.h"
 #include "io/scene_io.h"
+#include "render/offscreen.h"
 
 namespace drape::app {
 
@@ -60,12 +63,19 @@ int view(const ViewCommandOptions& c) {
     if ((!o.screenshot.empty() || o.drag || !o.report.empty()) && o.frames <= 0)
       throw InputError("--frames", "--screenshot, --drag and --report need --frames N (N > 0)");
     def = io::load_scene(o.scene, o.sets);
+    for (const auto& [option, file] :
+         {std::pair{"--screenshot", o.screenshot}, {"--report", o.report}}) {
+      if (file.empty()) continue;
+      io::check_output(option, file);
+      check_not_the_scene(option, file, o.scene);
+    }
     if (!c.force) {
       try {
         check_memory(def);
       } catch (const InputError& e) {
-        throw InputError(o.scene + ": " + e.path(), e.problem());
+        throw InputError(io::source_name(o.scene) + ": " + e.path(), e.problem());
       }
+      check_memory(def, render::estimated_picture_bytes(o.width, o.height), "--size " + c.size);
     }
   } catch (const InputError& e) {
     std::fprintf(stderr, "drape: error: %s\n", e.what());
@@ -88,21 +98,28 @@ int view(const ViewCommandOptions& c) {
 std::function<int()> add_view_command(CLI::App& app) {
   auto o = std::make_shared<ViewCommandOptions>();
   CLI::App* cmd = app.add_subcommand("view", "Open the interactive viewer on a scene");
-  cmd->add_option("scene", o->scene, "Scene file (JSON); default: the shipped scenes/hang.json");
+  cmd->add_option("scene", o->scene,
+                  "Scene file (JSON), or - to read it from standard input; default: the shipped "
+                  "scenes/hang.json");
   cmd->add_option("--set", o->sets, "Override a scene key: KEY=VALUE, e.g. cloth.mass=2")
       ->take_all()
       ->allow_extra_args(false);
   cmd->add_option("--size", o->size, "Window size WIDTHxHEIGHT")->capture_default_str();
   cmd->add_option("--frames", o->frames, "Run this many frames, then exit (scripted use)")
       ->check(CLI::Range(int64_t{1}, int64_t{1} << 40));
-  cmd->add_option("--screenshot", o->screenshot, "With --frames: save the last frame as PNG");
+  cmd->add_option("--screenshot", o->screenshot, "With --frames: save the last frame as PNG")
+      ->check(kNonEmpty);
   cmd->add_option("--report", o->report,
-                  "With --frames: write frame rate and drag figures as JSON");
+                  "With --frames: write frame rate and drag figures as JSON (- for standard "
+                  "output)")
+      ->check(kNonEmpty);
   cmd->add_option("--drag", o->drag,
                   "With --frames: press at x0,y0, drag to x1,y1 (window units), hold to the end");
   cmd->add_flag("--no-vsync", o->no_vsync, "Draw as fast as possible");
   cmd->add_flag("--no-panel", o->no_panel, "Hide the control panel");
-  cmd->add_flag("--force", o->force, "Open a cloth beyond the memory budget");
+  cmd->add_flag("--force", o->force, "Open a cloth, or a window, beyond the memory budget");
+  cmd->footer(exit_codes_help(
+      {kExitOk, kExitBadInput, kExitDiverged, kExitNoGraphics, kExitOutputFailed, 129, 130, 143}));
   return [cmd, o] { return cmd->parsed() ? view(*o) : -1; };
 }
 

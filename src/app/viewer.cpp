@@ -17,12 +17,14 @@
 #include <nlohmann/json.hpp>
 
 #include "app/commands.h"
+#include "app/runner.h"
 #include "app/sim_thread.h"
 #include "app/terminal.h"
 #include "drape/error.h"
 #include "drape/simulation.h"
-#include "io/atomic_file.h"
+#include "io/output_file.h"
 #include "io/scene_io.h"
+#include "io/shown_text.h"
 #include "render/camera.h"
 #include "render/picking.h"
 #include "render/renderer.h"
@@ -86,6 +88,9 @@ class Viewer {
   render::Viewport viewport() const;  // the 3D view, window units
   render::Ray ray_at(double px, double py) const;
   void frame_camera();
+  void start_camera();
+  void follow_cloth();
+  bool cloth_bounds(Vec3& lo, Vec3& hi) const;
 
   // Input: the same calls serve the mouse and the scripted drag.
   void press(double px, double py, bool ctrl);
@@ -105,7 +110,7 @@ class Viewer {
   void draw_panel();
   void draw_help();
   void draw_frame();
-  std::string save_screenshot(const std::string& file);
+  bool save_screenshot(const std::string& file);  // says how it went in status_
 
   ViewerOptions o_;
   SceneDef def_;   // what the simulation was built from
@@ -117,6 +122,11 @@ class Viewer {
   bool imgui_ = false;
   std::unique_ptr<render::Renderer> renderer_;
   render::OrbitCamera camera_;
+  // Until the hand moves the camera or the cloth, the camera follows the cloth: it frames the
+  // box the cloth has swept since it was last framed, so a cloth the wind blows toward the eye
+  // or across the view stays in the 3D view beside the panel.
+  bool follow_ = true;
+  Vec3 swept_lo_ = Vec3::Zero(), swept_hi_ = Vec3::Zero();
   render::DrawOptions draw_;
   int32_t held_ = -1;  // the particle the mouse holds (the snapshot may not show it yet)
   double grab_along_ = 0.0;
@@ -126,6 +136,8 @@ class Viewer {
   bool orbiting_ = false, panning_ = false;
   double cursor_x_ = 0.0, cursor_y_ = 0.0;
   std::string status_, error_;
+  // Where messages for the person go: standard error when the report takes standard output.
+  FILE* out_ = o_.report == "-" ? stderr : stdout;
   std::vector<std::string> scene_files_;
   std::string scene_file_;
 };
@@ -157,7 +169,7 @@ bool Viewer::open() {
   glfwWindowHint(GLFW_OPENGL_FORWARD_COMPAT, GLFW_TRUE);
   glfwWindowHint(GLFW_RESIZABLE, GLFW_TRUE);
   glfwWindowHint(GLFW_SAMPLES, 4);
-  const std::string title = "drape: " + def_.name;
+  const std::string title = "drape: " + io::shown(def_.name);
   window_ = glfwCreateWindow(o_.width, o_.height, title.c_str(), nullptr, nullptr);
   if (!window_) {  // some servers offer no multisampled visual
     glfwWindowHint(GLFW_SAMPLES, 0);
@@ -185,6 +197,12 @@ bool Viewer::open() {
   ImGui::CreateContext();
   ImGui::GetIO().IniFilename = nullptr;  // no imgui.ini in the user's folder
   ImGui::StyleColorsDark();
+  // A slider writes its value across its middle, where its grab can be: a thin, translucent
+  // grab leaves the value readable wherever it is (bending c at 0.1 hid it).
+  ImGuiStyle& style = ImGui::GetStyle();
+  style.GrabMinSize = 4.0f;
+  style.Colors[ImGuiCol_SliderGrab].w = 0.55f;
+  style.Colors[ImGuiCol_SliderGrabActive].w = 0.75f;
   ImGui_ImplGlfw_InitForOpenGL(window_, true);
   ImGui_ImplOpenGL3_Init("#version 330 core");
   imgui_ = true;
@@ -205,12 +223,38 @@ render::Ray Viewer::ray_at(double px, double py) const {
   return render::ray_from_pixel(camera_.view(), camera_.projection(vp.aspect()), vp, px, py);
 }
 
+// Room for the cloth to sag and swing around the box it fills: a twentieth of its size.
+constexpr double kFrameMargin = 0.05;
+// The camera backs off when the swept box leaves the middle 96% of the view, and then fits it
+// in the middle 90%, so it moves now and then, not every frame.
+constexpr double kFollowFraction = 0.96, kFitFraction = 0.9;
+
+bool Viewer::cloth_bounds(Vec3& lo, Vec3& hi) const {
+  if (!render::scene_bounds(snap_->state.x, snap_->colliders, lo, hi)) return false;
+  const Vec3 margin = Vec3::Constant(kFrameMargin * (hi - lo).maxCoeff());
+  lo -= margin;
+  hi += margin;
+  return true;
+}
+
 void Viewer::frame_camera() {
-  const render::Viewport vp = viewport();
-  const render::OrbitCamera fresh =
-      render::default_camera(snap_->state.x, snap_->colliders, vp.aspect());
-  camera_.target = fresh.target;
-  camera_.distance = fresh.distance;
+  follow_ = cloth_bounds(swept_lo_, swept_hi_);
+  if (follow_) camera_.fit(swept_lo_, swept_hi_, viewport().aspect(), kFitFraction);
+}
+
+void Viewer::start_camera() {
+  camera_ = render::default_camera(snap_->state.x, snap_->colliders, viewport().aspect());
+  frame_camera();
+}
+
+void Viewer::follow_cloth() {
+  Vec3 lo, hi;
+  if (!follow_ || !cloth_bounds(lo, hi)) return;
+  swept_lo_ = swept_lo_.cwiseMin(lo);
+  swept_hi_ = swept_hi_.cwiseMax(hi);
+  const double aspect = viewport().aspect();
+  if (!camera_.shows(swept_lo_, swept_hi_, aspect, kFollowFraction))
+    camera_.fit(swept_lo_, swept_hi_, aspect, kFitFraction);
 }
 
 void Viewer::press(double px, double py, bool ctrl) {
@@ -228,6 +272,7 @@ void Viewer::press(double px, double py, bool ctrl) {
   }
   held_ = pick.index;
   grab_along_ = pick.along;
+  follow_ = false;  // the hand has the cloth: the view must stay where the hand aims
   sim_->grab(pick.index, render::drag_target(ray, grab_along_));
 }
 
@@ -263,11 +308,14 @@ void Viewer::on_cursor(double px, double py) {
   cursor_y_ = py;
   if (orbiting_) camera_.orbit(-kOrbitPerUnit * dx, kOrbitPerUnit * dy);
   if (panning_) camera_.pan(dx, dy, viewport().height);
+  if (orbiting_ || panning_) follow_ = false;
   move(px, py);
 }
 
 void Viewer::on_scroll(double dy) {
-  if (!ImGui::GetIO().WantCaptureMouse) camera_.zoom(dy);
+  if (ImGui::GetIO().WantCaptureMouse) return;
+  camera_.zoom(dy);
+  follow_ = false;
 }
 
 void Viewer::on_key(int key, int action, int /*mods*/) {
@@ -293,10 +341,10 @@ void Viewer::on_key(int key, int action, int /*mods*/) {
       show_help_ = !show_help_;
       break;
     case GLFW_KEY_P: {
-      char name[128];
-      std::snprintf(name, sizeof name, "drape_%s_%05lld.png", def_.name.c_str(),
-                    static_cast<long long>(snap_->frame));
-      status_ = save_screenshot(name);
+      // The scene's name makes one file name in the working folder, whatever it holds.
+      char frame[32];
+      std::snprintf(frame, sizeof frame, "_%05lld.png", static_cast<long long>(snap_->frame));
+      save_screenshot("drape_" + io::file_name_from(def_.name) + frame);
       break;
     }
     case GLFW_KEY_ESCAPE:
@@ -350,8 +398,8 @@ void Viewer::open_scene(const std::string& file) {
       scene_file_ = file;
       sim_->sync();  // frame the new cloth, not the old one
       snap_ = sim_->snapshot();
-      camera_ = render::default_camera(snap_->state.x, snap_->colliders, viewport().aspect());
-      glfwSetWindowTitle(window_, ("drape: " + def.name).c_str());
+      start_camera();
+      glfwSetWindowTitle(window_, ("drape: " + io::shown(def.name)).c_str());
     }
   } catch (const InputError& e) {
     error_ = e.what();
@@ -560,6 +608,8 @@ void Viewer::draw_frame() {
   glfwGetWindowSize(window_, &win_w, &win_h);
   if (fb_w <= 0 || fb_h <= 0) return;  // minimised
 
+  follow_cloth();
+
   // Hover: the particle a press would pick.
   draw_.held = held_;
   draw_.highlighted = -1;
@@ -620,19 +670,21 @@ void Viewer::draw_frame() {
   ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
 }
 
-std::string Viewer::save_screenshot(const std::string& file) {
+bool Viewer::save_screenshot(const std::string& file) {
   int fb_w = 1, fb_h = 1;
   glfwGetFramebufferSize(window_, &fb_w, &fb_h);
   glReadBuffer(GL_BACK);
   try {
     render::write_png(file, fb_w, fb_h, render::read_pixels({0, 0, fb_w, fb_h}));
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "drape view: %s\n", e.what());
-    return e.what();
+  } catch (const io::OutputError& e) {
+    std::fprintf(stderr, "drape: error: %s\n", e.what());
+    status_ = e.what();
+    return false;
   }
-  std::printf("screenshot: %s\n", file.c_str());
-  std::fflush(stdout);
-  return "screenshot: " + file;
+  std::fprintf(out_, "screenshot: %s\n", file.c_str());
+  std::fflush(out_);
+  status_ = "screenshot: " + file;
+  return true;
 }
 
 int Viewer::run() {
@@ -643,12 +695,14 @@ int Viewer::run() {
   snap_ = sim_->snapshot();
   if (!open()) return kExitNoGraphics;
   std::error_code ec;
+  // Regular files only: picking a named pipe would wait for a writer with the window frozen.
   for (const auto& entry : fs::directory_iterator(scenes_dir(), ec))
-    if (entry.path().extension() == ".json") scene_files_.push_back(entry.path().string());
+    if (entry.path().extension() == ".json" && entry.is_regular_file(ec))
+      scene_files_.push_back(entry.path().string());
   std::sort(scene_files_.begin(), scene_files_.end());
   for (const std::string& f : scene_files_)
     if (fs::equivalent(f, o_.scene, ec)) scene_file_ = f;
-  camera_ = render::default_camera(snap_->state.x, snap_->colliders, viewport().aspect());
+  start_camera();
 
   // Scripted use: one frame per displayed frame, the drag moving before each.
   const bool scripted = o_.frames > 0;
@@ -687,7 +741,7 @@ int Viewer::run() {
 
     if (scripted && (snap_->frame >= o_.frames || snap_->diverged)) {
       const double seconds = std::chrono::duration<double>(clock::now() - start).count();
-      if (!o_.screenshot.empty()) save_screenshot(o_.screenshot);
+      bool written = o_.screenshot.empty() || save_screenshot(o_.screenshot);
       const SimSnapshot& s = *snap_;
       if (dragged >= 0) {
         const render::Ray ray = ray_at((*o_.drag)[2], (*o_.drag)[3]);
@@ -699,8 +753,8 @@ int Viewer::run() {
         report["drag"]["ray_direction"] = {ray.direction.x(), ray.direction.y(), ray.direction.z()};
         report["drag"]["target"] = {target.x(), target.y(), target.z()};
         report["drag"]["start"] = {rest.x(), rest.y(), rest.z()};
-        std::printf("drag: particle %d held at (%.4f, %.4f, %.4f), %.4f m along the ray\n", dragged,
-                    x.x(), x.y(), x.z(), grab_along_);
+        std::fprintf(out_, "drag: particle %d held at (%.4f, %.4f, %.4f), %.4f m along the ray\n",
+                     dragged, x.x(), x.y(), x.z(), grab_along_);
         release();
       }
       report["frames"] = s.frame;
@@ -711,21 +765,22 @@ int Viewer::run() {
       report["particles"] = s.model->size();
       report["diverged"] = s.diverged;
       report["renderer"] = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
+      std::string report_error;
       try {
-        if (!o_.report.empty()) io::write_file_atomically(o_.report, report.dump(2) + "\n");
-      } catch (const std::exception& e) {
-        std::fprintf(stderr, "drape: error: %s\n", e.what());
-        return 1;
+        if (!o_.report.empty()) io::write_output(o_.report, json_text(report));
+      } catch (const io::OutputError& e) {
+        report_error = e.what();
+        written = false;
       }
-      std::printf("%s: %lld frames in %.2f s, %.1f frames/s, simulation %.2f ms/frame\n",
-                  def_.name.c_str(), static_cast<long long>(s.frame), seconds, shown / seconds,
-                  s.step_ms);
-      if (s.diverged) {
+      std::fprintf(out_, "%s: %lld frames in %.2f s, %.1f frames/s, simulation %.2f ms/frame\n",
+                   io::shown(def_.name).c_str(), static_cast<long long>(s.frame), seconds,
+                   shown / seconds, s.step_ms);
+      std::fflush(out_);
+      if (s.diverged)
         std::fprintf(stderr, "drape: error: diverged at frame %lld: %s\n",
                      static_cast<long long>(s.diverged_frame), s.divergence.c_str());
-        return kExitDiverged;
-      }
-      break;
+      if (!report_error.empty()) std::fprintf(stderr, "drape: error: %s\n", report_error.c_str());
+      return !written ? kExitOutputFailed : s.diverged ? kExitDiverged : kExitOk;
     }
     glfwSwapBuffers(window_);
   }

@@ -113,8 +113,10 @@ double gravity_energy(const ClothModel& model, const std::vector<Vec3>& x, const
 StateWatch watch_state(const ClothModel& model, const ClothState& state, const Vec3& g) {
   return deterministic_sum<StateWatch>(model.size(), [&](int64_t i) {
     const Vec3 &x = state.x[i], &v = state.v[i];
-    const double m = model.mass[i];
-    return StateWatch{x.allFinite() && v.allFinite(), 0.5 * m * v.squaredNorm(), -m * g.dot(x)};
+    const double m = model.mass[i], x2 = x.squaredNorm(), v2 = v.squaredNorm();
+    // NaN fails both comparisons.
+    const bool bounded = x2 <= kMaxSquaredMagnitude && v2 <= kMaxSquaredMagnitude;
+    return StateWatch{bounded, 0.5 * m * v2, -m * g.dot(x)};
   });
 }
 

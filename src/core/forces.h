@@ -98,10 +98,17 @@ double kinetic_energy(const ClothModel& model, const std::vector<Vec3>& v);
 double gravity_energy(const ClothModel& model, const std::vector<Vec3>& x, const Vec3& g);
 double spring_energy(const ClothModel& model, const std::vector<Vec3>& x);
 
+/// The largest squared length of a position (m²) or velocity (m²/s²) the divergence watch
+/// accepts: beyond 1e150 a difference of two positions, squared, can overflow, so strains,
+/// spring energies and normals of such a state are no longer numbers.
+inline constexpr double kMaxSquaredMagnitude = 1e300;
+
 /// What the divergence watch reads of the state after every frame, taken in one pass over it,
 /// in parallel, with the same bits for any thread count.
 struct StateWatch {
-  bool finite = true;    ///< every position and velocity is finite
+  /// every position and velocity is finite, with a squared length of at most
+  /// kMaxSquaredMagnitude
+  bool finite = true;
   double kinetic = 0.0;  ///< J, kinetic_energy up to round-off
   double gravity = 0.0;  ///< J, gravity_energy up to round-off
   StateWatch& operator+=(const StateWatch& o) {

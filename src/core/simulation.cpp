@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <limits>
 #include <string>
 
 #include "drape/error.h"
@@ -10,6 +12,43 @@
 #include "solvers/solver.h"
 
 namespace drape {
+
+namespace {
+
+// A cloth that starts inside a collider is thrown out of it by the first contact pass, with
+// energy that nothing supplied, and the divergence watch would report a blow-up and a hint
+// about the step: it is the scene that is wrong. A particle inside by no more than the
+// collider's thickness and the cloth's perturbation is the cloth laid on the surface; contacts
+// move it out by that much.
+void check_starts_outside(const std::vector<Collider>& colliders, double perturbation,
+                          const std::vector<Vec3>& x) {
+  for (size_t k = 0; k < colliders.size(); ++k) {
+    const Collider& c = colliders[k];
+    const double allowed = c.thickness + perturbation + 1e-9;
+    int64_t inside = 0;
+    double depth = 0.0;
+    Vec3 deepest = Vec3::Zero(), n;
+    for (const Vec3& p : x) {
+      const double d = -signed_distance(c, p, n);
+      if (d <= allowed) continue;
+      ++inside;
+      if (d > depth) depth = d, deepest = p;
+    }
+    if (inside == 0) continue;
+    const bool sphere = c.type == ColliderType::sphere;
+    char problem[320];
+    std::snprintf(problem, sizeof problem,
+                  "the cloth starts %s: %lld of its %zu particles do, the deepest (at %.3g, %.3g, "
+                  "%.3g) %.3g m %s; move the cloth or the %s%s",
+                  sphere ? "inside this sphere" : "behind this plane",
+                  static_cast<long long>(inside), x.size(), deepest.x(), deepest.y(), deepest.z(),
+                  depth, sphere ? "inside its surface" : "behind it", to_string(c.type),
+                  sphere ? "" : ", or turn its normal to the cloth's side");
+    throw InputError("colliders[" + std::to_string(k) + "]", problem);
+  }
+}
+
+}  // namespace
 
 Simulation::Simulation(const SceneDef& def) : def_(def), attachments_(std::make_unique<LongRange>()) {
   check(def_);
@@ -22,6 +61,8 @@ Simulation::Simulation(const SceneDef& def) : def_(def), attachments_(std::make_
   }
   diagonal_ = (hi - lo).norm();
   colliders_ = make_colliders(def_.colliders);
+  // The perturbation moved the start by up to this much (cloth.perturbation is relative).
+  check_starts_outside(colliders_, def_.cloth.perturbation * model_.mean_edge, state_.x);
   solver_ = make_solver(def_.solver, model_);
   scratch_.reserve(model_.size());
   attachments_->prepare(model_, state_, def_.cloth.long_range);
@@ -100,7 +141,10 @@ bool Simulation::step() {
            divergence_hint(def_.solver.method);
   };
   if (!watch.finite) {
-    divergence_ = "the state became non-finite (NaN or infinity)" + method();
+    divergence_ =
+        "the state became non-finite or overflowed (NaN, infinity, or a position or velocity "
+        "beyond 1e150)" +
+        method();
   } else {
     if (def_.forces.wind.strength > 0.0)
       external_work_ += def_.solver.dt * forces::wind_power(model_, state_, def_.forces.wind,
@@ -111,12 +155,17 @@ bool Simulation::step() {
     double energy = watch.kinetic;
     if (solver_->stretch_is_energy()) energy += forces::spring_energy(model_, state_.x);
     const double supplied = energy_ref_ + external_work_ - watch.gravity;
-    if (energy - supplied > tolerance) {
+    // An energy that overflowed compares false with anything; so does an excess of inf − inf.
+    if (!std::isfinite(energy) || !std::isfinite(supplied)) {
+      divergence_ = "the energy overflowed (it is no longer a finite number)" + method();
+    } else if (energy - supplied > tolerance) {
+      // The excess, not the budget: a budget can be negative (the cloth risen far above where
+      // anything could have lifted it), and "more than −7.7e+06 J" reads as nonsense.
       char buf[200];
       std::snprintf(buf, sizeof buf,
-                    "the energy grew to %.3g J, more than the %.3g J that gravity, wind and the "
-                    "start state can supply (tolerance %.3g J)",
-                    energy, supplied, tolerance);
+                    "the energy grew to %.3g J, %.3g J more than gravity, wind and the start "
+                    "state can supply (tolerance %.3g J)",
+                    energy, energy - supplied, tolerance);
       divergence_ = buf + method();
     }
   }
@@ -184,6 +233,17 @@ Diagnostics Simulation::diagnostics() const {
       d.pinned_drift = std::max(d.pinned_drift, (state_.x[i] - state_.anchor[i]).norm());
     d.finite = d.finite && state_.x[i].allFinite() && state_.v[i].allFinite();
   }
+  // Maxima skip NaN (every comparison with it is false), so a state holding NaN would report
+  // figures of its other particles, or 0: its figures from positions are NaN instead.
+  if (!d.finite) {
+    for (double* figure :
+         {&d.max_strain, &d.mean_strain, &d.p99_strain, &d.max_penetration, &d.pinned_drift})
+      if (std::isfinite(*figure)) *figure = std::numeric_limits<double>::quiet_NaN();
+  }
+  // A figure that overflowed is as much a sign of a blown-up state as a position that did.
+  for (const double figure : {d.kinetic_energy, d.max_strain, d.mean_strain, d.p99_strain,
+                              d.max_penetration, d.pinned_drift})
+    d.finite = d.finite && std::isfinite(figure);
   return d;
 }
 

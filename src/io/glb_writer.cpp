@@ -11,7 +11,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "io/atomic_file.h"
+#include "io/output_file.h"
 #include "io/collider_mesh.h"
 
 namespace drape::io {
@@ -31,8 +31,8 @@ size_t padded(size_t bytes) {
   return (bytes + 3) & ~size_t{3};
 }
 
-std::runtime_error write_error(const std::string& file) {
-  return std::runtime_error(file + ": cannot write: " + std::strerror(errno));
+OutputError write_error(const std::string& file) {
+  return OutputError(file + ": cannot write: " + std::strerror(errno));
 }
 
 // A unit normal in single precision: normalised after rounding, as the validator checks it.
@@ -310,12 +310,12 @@ void GlbWriter::finish() {
   const double total =
       12.0 + 8.0 + static_cast<double>(text.size()) + 8.0 + static_cast<double>(bin_bytes);
   if (total > kMaxBytes)
-    throw std::runtime_error(file_ + ": " + std::to_string(keys) + " frames of " +
+    throw OutputError(file_ + ": " + std::to_string(keys) + " frames of " +
                              std::to_string(n) +
                              " vertices pass the 4 GiB a .glb can hold; export fewer frames "
                              "with --every");
 
-  AtomicFile out(file_);
+  OutputFile out(file_);
   FILE* f = out.get();
   const uint32_t header[5] = {kMagic, 2, static_cast<uint32_t>(total),
                               static_cast<uint32_t>(text.size()), kJsonChunk};

@@ -26,7 +26,7 @@ namespace drape::io {
 class GlbWriter {
  public:
   /// Starts `file` with the mesh and frame 0 (`first`, at `time` s). `name` names the cloth's
-  /// node and mesh; `generator` goes in the asset's description. Throws std::runtime_error
+  /// node and mesh; `generator` goes in the asset's description. Throws OutputError
   /// naming the file if its scratch space cannot be had.
   GlbWriter(std::string file, std::string name, std::string generator, const ClothModel& model,
             const ClothState& first, double time, const std::vector<Collider>& colliders);
@@ -38,7 +38,7 @@ class GlbWriter {
   /// is named after it ("frame_00005", as the OBJ export names its file).
   void add_frame(const ClothState& state, int64_t frame, double time);
 
-  /// Writes the file (through FILE.tmp and a rename). Throws std::runtime_error naming the file
+  /// Writes the file (as io::OutputFile writes: whole or not at all). Throws OutputError naming the file
   /// if it cannot be written, or if it would pass the format's 4 GiB.
   void finish();
 

@@ -3,7 +3,7 @@
 #include <bit>
 #include <cstdio>
 
-#include "io/atomic_file.h"
+#include "io/output_file.h"
 
 namespace drape::io {
 
@@ -65,7 +65,7 @@ void write_ply(FILE* f, const ClothModel& m, const ClothState& s) {
 
 void write_mesh(const std::string& file, MeshFormat format, const ClothModel& model,
                 const ClothState& state) {
-  AtomicFile out(file);
+  OutputFile out(file);
   if (format == MeshFormat::obj)
     write_obj(out.get(), model, state);
   else
@@ -74,7 +74,7 @@ void write_mesh(const std::string& file, MeshFormat format, const ClothModel& mo
 }
 
 void write_obj(const std::string& file, const ClothMesh& mesh, const std::string& comment) {
-  AtomicFile out(file);
+  OutputFile out(file);
   FILE* f = out.get();
   std::fprintf(f, "# %s\n# %zu vertices, %zu triangles\n", comment.c_str(), mesh.positions.size(),
                mesh.triangles.size());

@@ -11,13 +11,13 @@ namespace drape::io {
 
 enum class MeshFormat { obj, ply };
 
-/// Writes the mesh to `file` through a temporary name and a rename, so a reader never sees half
-/// a file. Throws std::runtime_error naming the file if it cannot be written.
+/// Writes the mesh to `file` as io::OutputFile does (a reader never sees half a file). Throws
+/// OutputError naming the file if it cannot be written.
 void write_mesh(const std::string& file, MeshFormat format, const ClothModel& model,
                 const ClothState& state);
 
-/// Writes a mesh at rest (vertices, texture coordinates, triangles) as OBJ, through a
-/// temporary name and a rename, with `comment` on its first line.
+/// Writes a mesh at rest (vertices, texture coordinates, triangles) as OBJ, as io::OutputFile
+/// writes, with `comment` on its first line.
 void write_obj(const std::string& file, const ClothMesh& mesh, const std::string& comment);
 
 }  // namespace drape::io

@@ -16,7 +16,9 @@ constexpr long kFrameCountOffset = 28;
 
 void seek(FILE* f, long offset, int whence, const std::string& file) {
   if (std::fseek(f, offset, whence) != 0)
-    throw std::runtime_error(file + ": cannot write: " + std::strerror(errno));
+    throw OutputError(file + ": cannot write a PC2 cache here (" + std::strerror(errno) +
+                      "): its header is rewritten after every frame, which a pipe or a device "
+                      "cannot take");
 }
 
 }  // namespace

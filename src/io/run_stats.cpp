@@ -13,6 +13,8 @@ const char* to_string(RunStatus s) {
       return "diverged";
     case RunStatus::interrupted:
       return "interrupted";
+    case RunStatus::output_failed:
+      return "output_failed";
   }
   return "?";
 }
@@ -27,13 +29,24 @@ double RunResult::median_ms() const {
   return 0.5 * (upper + *std::max_element(sorted.begin(), sorted.begin() + mid));
 }
 
+nlohmann::json figure(double x) {
+  if (std::isfinite(x)) return x;
+  return std::isnan(x) ? "nan" : x > 0 ? "inf" : "-inf";
+}
+
+std::string json_text(const nlohmann::json& j) {
+  return j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n";
+}
+
 nlohmann::json stats_json(const Simulation& sim, const RunResult& run) {
   const Diagnostics d = sim.diagnostics();
   nlohmann::json j;
   j["scene"] = sim.def().name;
   j["status"] = to_string(run.status);
   j["diverged_frame"] = sim.diverged() ? nlohmann::json(sim.diverged_frame()) : nullptr;
-  j["message"] = sim.diverged() ? nlohmann::json(sim.divergence()) : nullptr;
+  j["message"] = sim.diverged()                           ? nlohmann::json(sim.divergence())
+                 : run.status == RunStatus::output_failed ? nlohmann::json(run.output_error)
+                                                          : nullptr;
   j["method"] = to_string(sim.def().solver.method);
   // What auto chose, as it ended, and how often it changed its effort; null for other methods.
   if (const AutoChoice* a = sim.auto_choice()) {
@@ -58,8 +71,6 @@ nlohmann::json stats_json(const Simulation& sim, const RunResult& run) {
   j["model_bytes"] = memory.model;
   j["workspace_bytes"] = memory.workspace;
   j["bytes_per_particle"] = memory.per_particle(sim.model().size());
-  // JSON has no NaN or infinity: non-finite figures of a diverged state are written as null.
-  auto figure = [](double x) { return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(); };
   j["kinetic_energy"] = figure(d.kinetic_energy);
   j["max_strain"] = figure(d.max_strain);
   j["mean_strain"] = figure(d.mean_strain);

@@ -1,15 +1,17 @@
 #include "io/scene_io.h"
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
 #include <limits>
 #include <sstream>
 
 #include "drape/error.h"
 #include "io/obj_import.h"
+#include "io/shown_text.h"
 
 namespace drape::io {
 
@@ -20,9 +22,7 @@ namespace {
 // JSON text for messages, cut to a readable length. Replaces invalid UTF-8 (a bare-word --set
 // value can hold any bytes) instead of throwing.
 std::string show(const json& j) {
-  std::string text = j.dump(-1, ' ', false, json::error_handler_t::replace);
-  if (text.size() > 60) text = text.substr(0, 57) + "...";
-  return text;
+  return shown(j.dump(-1, ' ', false, json::error_handler_t::replace), 57);
 }
 
 std::string type_name(const json& j) {
@@ -107,7 +107,7 @@ class Reader {
       }
       names.push_back(std::string("\"") + to_string(e) + "\"");
     }
-    fail(at(key), "unknown value \"" + name + "\"; expected one of " + list(names));
+    fail(at(key), "unknown value \"" + shown(name) + "\"; expected one of " + list(names));
   }
 
   void finish() const {
@@ -124,7 +124,7 @@ class Reader {
         problem += "; did you mean \"" + best + "\"?";
       else
         problem += "; known keys here: " + list(known_);
-      fail(at(it.key()), problem);
+      fail(at(shown(it.key())), problem);
     }
   }
 
@@ -179,7 +179,7 @@ std::vector<Pin> read_pins(const json& v, const std::string& path) {
       else if (name == "bottom-left") pins.push_back({0, -1});
       else if (name == "bottom-right") pins.push_back({-1, -1});
       else
-        fail(at, "unknown corner \"" + name +
+        fail(at, "unknown corner \"" + shown(name) +
                      "\"; expected \"top-left\", \"top-right\", \"bottom-left\", "
                      "\"bottom-right\", a grid index [col, row], {\"vertex\": i} or {\"box\": "
                      "{\"min\": [x, y, z], \"max\": [x, y, z]}}");
@@ -265,19 +265,40 @@ ColliderDef read_collider(const json& v, const std::string& path) {
   return c;
 }
 
+// A scene is a few kilobytes; this leaves room for any cloth with every particle pinned by
+// index, and bounds what a mistaken file (a log, a disk image, /dev/zero) can cost to read.
+constexpr size_t kMaxSceneBytes = size_t{16} << 20;
+
+[[noreturn]] void too_large() {
+  fail("", "is larger than the 16 MiB a scene file may be");
+}
+
+// The file's bytes: a regular file, a pipe (`<(...)`), a device, or standard input for `-`.
 std::string read_text(const std::string& file) {
   namespace fs = std::filesystem;
-  std::error_code ec;
-  if (!fs::exists(file, ec)) fail("", "no such file");
-  if (!fs::is_regular_file(file, ec)) fail("", "not a regular file");
-  std::ifstream in(file, std::ios::binary);
-  if (!in) fail("", "cannot be opened for reading");
-  std::ostringstream text;
-  text << in.rdbuf();
-  if (in.bad()) fail("", "cannot be read");
-  const std::string s = text.str();
-  if (s.find_first_not_of(" \t\r\n") == std::string::npos) fail("", "the file is empty");
-  return s;
+  FILE* in = stdin;
+  if (file != "-") {
+    std::error_code ec;
+    const fs::file_status status = fs::status(file, ec);
+    if (!fs::exists(status)) fail("", "no such file");
+    if (fs::is_directory(status)) fail("", "is a folder, not a scene file");
+    if (fs::is_regular_file(status) && fs::file_size(file, ec) > kMaxSceneBytes) too_large();
+    in = std::fopen(file.c_str(), "rb");
+    if (!in) fail("", std::string("cannot be opened for reading: ") + std::strerror(errno));
+  }
+  std::string text;
+  char buf[1 << 16];
+  bool large = false;
+  for (size_t n; !large && (n = std::fread(buf, 1, sizeof buf, in)) > 0;) {
+    large = text.size() + n > kMaxSceneBytes;
+    if (!large) text.append(buf, n);
+  }
+  const bool bad = std::ferror(in);
+  if (in != stdin) std::fclose(in);
+  if (large) too_large();
+  if (bad) fail("", "cannot be read");
+  if (text.find_first_not_of(" \t\r\n") == std::string::npos) fail("", "the file is empty");
+  return text;
 }
 
 // nlohmann's message without its "[json.exception.name.id] " prefix.
@@ -424,8 +445,8 @@ SceneDef parse_scene(const json& j, const std::string& source, const std::string
 void apply_override(json& scene, const std::string& assignment) {
   const size_t eq = assignment.find('=');
   if (eq == std::string::npos || eq == 0)
-    fail("--set " + assignment, "expected KEY=VALUE, e.g. cloth.resolution=[64,64]");
-  const std::string key = assignment.substr(0, eq);
+    fail("--set " + shown(assignment), "expected KEY=VALUE, e.g. cloth.resolution=[64,64]");
+  const std::string key = shown(assignment.substr(0, eq));
   const std::string text = assignment.substr(eq + 1);
   json value;
   try {
@@ -436,7 +457,7 @@ void apply_override(json& scene, const std::string& assignment) {
     fail("--set " + key, without_prefix(e));
   }
   std::vector<std::string> parts;
-  std::stringstream ss(key);
+  std::stringstream ss(assignment.substr(0, eq));
   for (std::string part; std::getline(ss, part, '.');) {
     if (part.empty()) fail("--set " + key, "empty component in the key");
     parts.push_back(part);
@@ -448,7 +469,8 @@ void apply_override(json& scene, const std::string& assignment) {
     if (node->is_array()) {
       const bool index = std::all_of(p.begin(), p.end(), ::isdigit) && p.size() < 9;
       const std::string where = display_path({parts.begin(), parts.begin() + k});
-      if (!index) fail("--set " + key, where + " is an array; expected an index, got \"" + p + "\"");
+      if (!index)
+        fail("--set " + key, where + " is an array; expected an index, got \"" + shown(p) + "\"");
       const size_t i = std::stoul(p);
       if (i >= node->size())
         fail("--set " + key, where + " has " + std::to_string(node->size()) +
@@ -458,22 +480,34 @@ void apply_override(json& scene, const std::string& assignment) {
       if (node->is_null()) *node = json::object();
       if (!node->is_object())
         fail("--set " + key, display_path({parts.begin(), parts.begin() + k}) +
-                                 " is not an object, so it has no key \"" + p + "\"");
+                                 " is not an object, so it has no key \"" + shown(p) + "\"");
       node = &(*node)[p];
     }
     if (last) *node = value;
   }
 }
 
-SceneDef load_scene(const std::string& file, const std::vector<std::string>& overrides) {
-  json j;
+std::string source_name(const std::string& file) {
+  return file == "-" ? "standard input" : file;
+}
+
+json load_scene_json(const std::string& file, const std::vector<std::string>& overrides) {
   try {
-    j = parse_json(read_text(file));
+    json j = parse_json(read_text(file));
     for (const std::string& o : overrides) apply_override(j, o);
+    return j;
   } catch (const InputError& e) {
-    throw InputError(e.path().empty() ? file : file + ": " + e.path(), e.problem());
+    const std::string source = source_name(file);
+    throw InputError(e.path().empty() ? source : source + ": " + e.path(), e.problem());
   }
-  return parse_scene(j, file, std::filesystem::path(file).parent_path().string());
+}
+
+std::string scene_folder(const std::string& file) {
+  return file == "-" ? "" : std::filesystem::path(file).parent_path().string();
+}
+
+SceneDef load_scene(const std::string& file, const std::vector<std::string>& overrides) {
+  return parse_scene(load_scene_json(file, overrides), source_name(file), scene_folder(file));
 }
 
 json to_json(const SceneDef& d) {

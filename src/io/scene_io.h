@@ -13,11 +13,24 @@ namespace drape::io {
 
 /// Reads `file`, applies the overrides ("cloth.resolution=[64,64]": a dotted path, then a JSON
 /// value; a bare word is a string), checks types, names and ranges, and returns the scene.
-/// Throws InputError whose message starts with the file name.
+/// `file` may be a regular file, a pipe or a device, or `-` for standard input; one of more than
+/// 16 MiB is refused. Throws InputError whose message starts with the file name.
 SceneDef load_scene(const std::string& file, const std::vector<std::string>& overrides = {});
 
-/// The same for JSON already in memory; `source` names it in messages, and a relative
-/// `cloth.mesh` is found in `folder` (empty: the working directory).
+/// The first half of load_scene: the file's JSON with the overrides applied, not yet checked,
+/// for a caller that sets more keys before parse_scene (drape compare sets each method).
+nlohmann::json load_scene_json(const std::string& file,
+                               const std::vector<std::string>& overrides = {});
+
+/// How messages name a scene file: the file, or "standard input" for `-`.
+std::string source_name(const std::string& file);
+
+/// The folder a scene file's relative paths (cloth.mesh) are found in: the file's own, or the
+/// working directory for standard input.
+std::string scene_folder(const std::string& file);
+
+/// The same as load_scene for JSON already in memory; `source` names it in messages, and a
+/// relative `cloth.mesh` is found in `folder` (empty: the working directory).
 SceneDef parse_scene(const nlohmann::json& j, const std::string& source,
                      const std::string& folder = "");
 

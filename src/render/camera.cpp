@@ -57,6 +57,24 @@ void OrbitCamera::frame(const Vec3& lo, const Vec3& hi, double aspect) {
   distance = radius / std::tan(std::min(half_x, half_y));
 }
 
+bool OrbitCamera::shows(const Vec3& lo, const Vec3& hi, double aspect, double fraction) const {
+  const glm::dmat4 clip_from_world = projection(aspect) * view();
+  for (int corner = 0; corner < 8; ++corner) {
+    const glm::dvec4 c =
+        clip_from_world * glm::dvec4(corner & 1 ? hi.x() : lo.x(), corner & 2 ? hi.y() : lo.y(),
+                                     corner & 4 ? hi.z() : lo.z(), 1.0);
+    if (!(c.w > 0.0) || std::abs(c.x) > fraction * c.w || std::abs(c.y) > fraction * c.w)
+      return false;
+  }
+  return true;
+}
+
+void OrbitCamera::fit(const Vec3& lo, const Vec3& hi, double aspect, double fraction) {
+  frame(lo, hi, aspect);
+  // Each step backs off 10%; 60 of them are 300 times as far, more than any box needs.
+  for (int step = 0; step < 60 && !shows(lo, hi, aspect, fraction); ++step) distance *= 1.1;
+}
+
 bool scene_bounds(const std::vector<Vec3>& x, const std::vector<Collider>& colliders, Vec3& lo,
                   Vec3& hi) {
   lo = Vec3::Constant(std::numeric_limits<double>::infinity());

@@ -53,6 +53,13 @@ struct OrbitCamera {
   /// at the target's depth, spans half the narrower side of a viewport of the given aspect
   /// ratio; keeps the current angles.
   void frame(const Vec3& lo, const Vec3& hi, double aspect);
+  /// Whether every corner of the box [lo, hi] is in front of the eye and inside the middle
+  /// `fraction` (0 to 1) of the view's width and height, for a viewport of the given aspect.
+  bool shows(const Vec3& lo, const Vec3& hi, double aspect, double fraction) const;
+  /// frame(), then the eye moved back until shows(lo, hi, aspect, fraction): frame() fits the
+  /// box's bounding radius at the target's depth, which a near corner seen in perspective can
+  /// still pass.
+  void fit(const Vec3& lo, const Vec3& hi, double aspect, double fraction);
 };
 
 /// The box holding the cloth's finite positions and the spheres (planes have no bounds).

@@ -8,6 +8,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/type_ptr.hpp>
 
+#include "io/output_file.h"
 #include "stb_image_write.h"
 
 namespace drape::render {
@@ -523,13 +524,13 @@ void write_png(const std::string& file, int width, int height, const std::vector
   // RGB: the alpha channel is opaque everywhere, and leaving it out keeps the files small.
   std::vector<uint8_t> rgb(rgba.size() / 4 * 3);
   for (size_t i = 0, j = 0; i < rgba.size(); i += 4, j += 3) std::copy_n(&rgba[i], 3, &rgb[j]);
-  // Through a temporary name and a rename, so a reader never sees half a picture.
-  const std::string tmp = file + ".tmp";
-  if (!stbi_write_png(tmp.c_str(), width, height, 3, rgb.data(), width * 3) ||
-      std::rename(tmp.c_str(), file.c_str()) != 0) {
-    std::remove(tmp.c_str());
-    throw std::runtime_error(file + ": cannot write the PNG file");
-  }
+  io::OutputFile out(file);
+  auto write = [](void* f, void* data, int size) {
+    std::fwrite(data, 1, static_cast<size_t>(size), static_cast<FILE*>(f));
+  };
+  if (!stbi_write_png_to_func(write, out.get(), width, height, 3, rgb.data(), width * 3))
+    throw io::OutputError(file + ": cannot encode the PNG picture");
+  out.commit();
 }
 
 }  // namespace drape::render

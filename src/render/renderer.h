@@ -81,7 +81,8 @@ class Renderer {
 /// Reads `rect` of the current read framebuffer as RGBA rows, top row first.
 std::vector<uint8_t> read_pixels(const PixelRect& rect);
 
-/// Writes RGBA rows (top row first) as a PNG. Throws std::runtime_error when it cannot.
+/// Writes RGBA rows (top row first) as a PNG, as io::OutputFile does. Throws io::OutputError
+/// when it cannot.
 void write_png(const std::string& file, int width, int height, const std::vector<uint8_t>& rgba);
 
 }  // namespace drape::render
