@@ -44,6 +44,11 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         iterations = std::max(1, def.solver.iterations) + def.solver.stiff_sweeps +
                      4 * def.solver.line_passes;
         break;
+      case drape::Method::automatic:
+        // xpbd, at most 6 line passes and 2 stiff sweeps a substep; its substeps may rise to
+        // solver.max_substeps (capped above), which the bound below does not see.
+        iterations = 1 + 2 + 4 * 6;
+        break;
       case drape::Method::symplectic:
         break;
     }

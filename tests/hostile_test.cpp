@@ -555,11 +555,35 @@ TEST_F(Hostile, AClosedTerminalStopsTheRunLikeCtrlCUnlessNohupIgnoresIt) {
   EXPECT_EQ(WEXITSTATUS(status), 143);
 }
 
+TEST_F(Hostile, CtrlCStopsALongFrameAtItsNextSubstepAndKeepsTheStats) {
+  // Frames of 200000 substeps take seconds (25 s for a symplectic 256 × 256 frame): the run
+  // stops at the substep under way, writes its stats and exits 130 within a second.
+  const pid_t pid =
+      spawn({"run", scene("hang"), "--set", "solver.method=symplectic", "--set",
+             "solver.substeps=200000", "--seconds", "0.5", "--quiet", "--stats", path("s.json"),
+             "--export", path("frames")});
+  ASSERT_TRUE(wait_for_file(path("frames/frame_00000.obj")));
+  pause(0.2);  // into frame 1
+  const auto sent = std::chrono::steady_clock::now();
+  kill(pid, SIGINT);
+  const int status = wait_for(pid);
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - sent).count();
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 130);
+  EXPECT_LT(seconds, 1.0);
+  const json stats = read_json(path("s.json"));
+  EXPECT_EQ(stats["status"], "interrupted");
+  EXPECT_EQ(stats["frames"], 0);  // frame 1, cut short, is not counted
+}
+
 TEST_F(Hostile, ASecondCtrlCEndsAFrameThatTakesTooLong) {
-  // Frames of 200000 substeps take seconds: the first Ctrl-C waits for the frame, the second
-  // does not.
-  const pid_t pid = spawn({"run", scene("hang"), "--set", "solver.substeps=200000", "--seconds",
-                           "0.5", "--quiet", "--export", path("frames")});
+  // One substep of 10000 local/global iterations on a 128 × 128 cloth takes seconds and has no
+  // substep to stop at: the first Ctrl-C waits for it, the second does not.
+  const pid_t pid = spawn({"run", scene("hang"), "--set", "solver.method=fast", "--set",
+                           "solver.substeps=1", "--set", "solver.iterations=10000", "--set",
+                           "cloth.resolution=[128,128]", "--seconds", "0.5", "--quiet",
+                           "--export", path("frames")});
   ASSERT_TRUE(wait_for_file(path("frames/frame_00000.obj")));
   kill(pid, SIGINT);
   pause(0.3);

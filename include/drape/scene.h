@@ -143,7 +143,7 @@ enum class Precision : uint8_t {
 };
 
 struct SolverDef {
-  Method method = Method::symplectic;
+  Method method = Method::automatic;  ///< "auto" unless a scene names another
   Precision precision = Precision::f64;
   double dt = 1.0 / 60.0;    ///< s, one frame, in [1e-6, 0.1]
   int substeps = 0;          ///< per frame; 0 = automatic (the stable minimum)

@@ -6,6 +6,7 @@
 //   while (sim.time() < 5.0 && sim.step()) draw(sim.state().x, sim.model().triangles);
 #pragma once
 
+#include <atomic>
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -82,6 +83,14 @@ class Simulation {
   /// the state is then left as it was at detection and later calls do nothing. Never throws.
   bool step();
 
+  /// Lets a frame stop part way: once `*flag` turns true (a signal handler may set it), step()
+  /// returns at the end of the substep under way, leaving the state between two frames and
+  /// frame() where it was; stopped() then says so. Null (the default): frames always finish.
+  /// The flag must outlive the simulation's use of it.
+  void set_stop_flag(const std::atomic<bool>* flag) { stop_ = flag; }
+  /// The last step() stopped part way through its frame.
+  bool stopped() const { return stopped_; }
+
   bool diverged() const { return !divergence_.empty(); }
   const std::string& divergence() const { return divergence_; }  ///< why, with a hint
   int64_t diverged_frame() const { return diverged_frame_; }      ///< -1 unless diverged
@@ -128,6 +137,8 @@ class Simulation {
   std::vector<double> scratch_;
   double diagonal_ = 0.0;  ///< m, of the rest shape's bounding box (divergence tolerance)
   int64_t frame_ = 0;
+  const std::atomic<bool>* stop_ = nullptr;
+  bool stopped_ = false;
   int32_t grabbed_ = -1;
   double grabbed_inv_mass_ = 0.0;
   // Divergence watch: mechanical energy may not grow past what was there at the last rebase

@@ -47,8 +47,9 @@ def command_error(*args):
 
 @pytest.fixture
 def free_fall():
-    """A scene dict of a cloth in free fall: no pins, exactly flat, no drag."""
+    """A scene dict of a cloth in free fall: no pins, exactly flat, no drag, the seed's method."""
     return {
         "cloth": {"resolution": [8, 8], "pins": [], "perturbation": 0.0},
         "forces": {"air_drag": 0.0},
+        "solver": {"method": "symplectic"},
     }

@@ -94,7 +94,7 @@ void print_table(const std::vector<Row>& rows, bool markdown) {
 }
 
 int compare(const CompareOptions& o) {
-  if (o.threads > 0) omp_set_num_threads(o.threads);
+  use_threads(o.threads);
   std::vector<Method> methods;
   if (o.methods.empty()) methods.assign(std::begin(kAllMethods), std::end(kAllMethods));
   for (const std::string& name : o.methods) {
@@ -205,8 +205,7 @@ std::function<int()> add_compare_command(CLI::App& app) {
   cmd->add_option("--set", o->sets, "Override a scene key: KEY=VALUE, e.g. cloth.mass=2")
       ->take_all()
       ->allow_extra_args(false);
-  cmd->add_option("--threads", o->threads, "Threads to use (default: all cores)")
-      ->check(CLI::Range(1, 1024));
+  add_threads_option(cmd, o->threads);
   cmd->add_flag("--markdown", o->markdown, "Print the table as Markdown");
   cmd->add_flag("--force", o->force, "Run beyond the memory and work budgets");
   cmd->footer(exit_codes_help({kExitOk, kExitBadInput, 129, 130, 143}) +

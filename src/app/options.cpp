@@ -7,10 +7,27 @@
 #include <cstdlib>
 #include <filesystem>
 
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
 #include "app/commands.h"
 #include "drape/error.h"
 
 namespace drape::app {
+
+void add_threads_option(CLI::App* cmd, int& threads) {
+  cmd->add_option("--threads", threads, "Threads to use (default: all cores)")
+      ->check(CLI::Range(1, 1024));
+}
+
+void use_threads(int threads) {
+#ifdef _OPENMP
+  if (threads > 0) omp_set_num_threads(threads);
+#else
+  (void)threads;
+#endif
+}
 
 CLI::Validator finite_range(double lo, double hi) {
   char description[64];

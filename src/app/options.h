@@ -29,6 +29,13 @@ std::string exact_number(double x);
 void check_not_the_scene(const std::string& option, const std::string& output,
                          const std::string& scene);
 
+/// Adds --threads N (in [1, 1024]; default: every core) to `cmd`, stored in `threads` (0: not
+/// given).
+void add_threads_option(CLI::App* cmd, int& threads);
+/// Has the parallel loops the calling thread opens use `threads` threads (0: the default).
+/// OpenMP keeps the count per thread: a thread of a command's own calls this itself.
+void use_threads(int threads);
+
 /// The --help footer listing what each of `codes` means (codes from commands.h).
 std::string exit_codes_help(const std::vector<int>& codes);
 

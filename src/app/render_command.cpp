@@ -3,6 +3,8 @@
 // ffmpeg for a video.
 #include <unistd.h>
 
+#include <algorithm>
+#include <cctype>
 #include <chrono>
 #include <cmath>
 #include <csignal>
@@ -36,11 +38,12 @@ const std::vector<std::string> kPictureExtensions{"png"};
 struct RenderOptions {
   std::string scene;
   std::optional<int64_t> frames;
-  int every = 1;
+  std::optional<int> every;  // not given: from picture_rate()
   std::string out;
   std::string size = "960x540";
   std::vector<std::string> sets;
   std::string video;
+  int threads = 0;
   double yaw = NAN, pitch = NAN;  // degrees; NaN: the viewer's start view
   double zoom = 0.0;              // scroll notches
   bool wireframe = false;
@@ -70,6 +73,20 @@ std::string shell_quote(const std::string& text) {
   return quoted + "'";
 }
 
+bool is_gif(const std::string& file) {
+  std::string extension = fs::path(file).extension().string();
+  for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return extension == ".gif";
+}
+
+// Pictures per simulated second when --every is not given: enough to follow the motion, not
+// every frame (a 10 s scene at 60 frames a second would be 600 files). A video plays at its
+// own rate, so it gets more; a GIF, whose size grows with every frame, fewer.
+double picture_rate(const std::string& video) {
+  if (video.empty()) return 10.0;
+  return is_gif(video) ? 15.0 : 30.0;
+}
+
 // Frames go to ffmpeg as raw RGBA on its standard input.
 class VideoPipe {
  public:
@@ -77,11 +94,15 @@ class VideoPipe {
     char format[256];
     std::snprintf(format, sizeof format, "-f rawvideo -pix_fmt rgba -s %dx%d -r %.6g -i - ", width,
                   height, fps);
-    // yuv420p (what players expect) needs even sizes: pad by a pixel where needed.
-    const std::string command = "ffmpeg -y -loglevel error " + std::string(format) +
-                                "-vf 'pad=ceil(iw/2)*2:ceil(ih/2)*2' -c:v libx264 "
-                                "-pix_fmt yuv420p " +
-                                shell_quote(file);
+    // A GIF takes a palette made from the frames themselves; yuv420p (what video players
+    // expect) needs even sizes: pad by a pixel where needed.
+    const std::string encode = is_gif(file)
+                                   ? "-vf 'split[a][b];[a]palettegen[p];[b][p]paletteuse' "
+                                     "-loop 0 "
+                                   : "-vf 'pad=ceil(iw/2)*2:ceil(ih/2)*2' -c:v libx264 "
+                                     "-pix_fmt yuv420p ";
+    const std::string command =
+        "ffmpeg -y -loglevel error " + std::string(format) + encode + shell_quote(file);
     // An ffmpeg that quits early must fail a write, not kill drape with SIGPIPE.
     std::signal(SIGPIPE, SIG_IGN);
     // In a session of its own, so the Ctrl-C that stops drape at the end of a frame does not
@@ -108,16 +129,20 @@ class VideoPipe {
 
 int render(const RenderOptions& o) {
   using clock = std::chrono::steady_clock;
+  use_threads(o.threads);
   std::optional<Simulation> sim;
   int width = 0, height = 0;
   int64_t frames = 0, replaced = 0;
+  int every = 1;
   std::string out = o.out;
   const std::string source = io::source_name(o.scene);
   try {
     parse_size("--size", o.size, width, height);
     const SceneDef def = io::load_scene(o.scene, o.sets);
     frames = o.frames ? *o.frames : frame_count(def);
-    if (!o.video.empty()) {
+    every = o.every ? *o.every
+                    : static_cast<int>(std::max(
+                          1.0, std::round(1.0 / (def.solver.dt * picture_rate(o.video)))));    if (!o.video.empty()) {
       if (!on_path("ffmpeg"))
         throw InputError("--video",
                          "ffmpeg is not installed (apt-get install ffmpeg); without "
@@ -170,7 +195,7 @@ int render(const RenderOptions& o) {
   if (!o.video.empty()) {
     try {
       video = std::make_unique<VideoPipe>(o.video, width, height,
-                                          1.0 / (sim->def().solver.dt * o.every));
+                                          1.0 / (sim->def().solver.dt * every));
     } catch (const io::OutputError& e) {
       std::fprintf(stderr, "drape: error: %s\n", e.what());
       return kExitOutputFailed;
@@ -194,16 +219,22 @@ int render(const RenderOptions& o) {
     if (video) video->write(pixels);
     ++written;
   };
+  if (!o.quiet && !o.every) {
+    const int64_t pictures = frames / every + 1 + (frames % every != 0 ? 1 : 0);
+    std::printf("drawing 1 frame in %d: %lld pictures of %lld frames (--every 1 draws all)\n",
+                every, static_cast<long long>(pictures), static_cast<long long>(frames));
+    std::fflush(stdout);
+  }
   RunHooks hooks;
   if (!o.quiet) hooks.progress_label = io::shown(sim->def().name, 30);
   hooks.after_frame = [&](const Simulation& s) {
-    if (s.frame() % o.every == 0 || s.frame() == frames) draw_frame(s);
+    if (s.frame() % every == 0 || s.frame() == frames) draw_frame(s);
   };
   install_interrupt_handlers();
   RunResult result = run_frames(*sim, frames, hooks);
   std::vector<std::string> output_errors;
   // A stopped render still draws where it stopped, so the last picture is the last state.
-  if (result.status == RunStatus::interrupted && sim->frame() % o.every != 0) {
+  if (result.status == RunStatus::interrupted && sim->frame() % every != 0) {
     try {
       draw_frame(*sim);
     } catch (const io::OutputError& e) {
@@ -244,9 +275,10 @@ std::function<int()> add_render_command(CLI::App& app) {
       ->required();
   cmd->add_option("--frames", o->frames, "Frames to simulate (default: the scene's duration)")
       ->check(CLI::Range(int64_t{0}, int64_t{1} << 40));
-  cmd->add_option("--every", o->every, "Draw every Kth frame (and always the first and last)")
-      ->check(CLI::Range(1, 1 << 30))
-      ->capture_default_str();
+  cmd->add_option("--every", o->every,
+                  "Draw every Kth frame (and always the first and last); default: 10 pictures "
+                  "per simulated second (for --video 30, for a GIF 15)")
+      ->check(CLI::Range(1, 1 << 30));
   cmd->add_option("--out", o->out,
                   "Folder for frame_NNNNN.png (default: out/NAME, NAME the scene's name with "
                   "characters other than letters, digits and ._-+ made _)")
@@ -256,7 +288,7 @@ std::function<int()> add_render_command(CLI::App& app) {
       ->take_all()
       ->allow_extra_args(false);
   cmd->add_option("--video", o->video,
-                  "Also encode the frames into this video with ffmpeg (FILE.mp4, .mkv, ...)")
+                  "Also encode the frames into this video with ffmpeg (FILE.mp4, .mkv, .gif, ...)")
       ->check(kNonEmpty);
   cmd->add_option("--yaw", o->yaw, "Camera angle around the vertical axis, degrees")
       ->check(finite_range(-360.0, 360.0));
@@ -265,6 +297,7 @@ std::function<int()> add_render_command(CLI::App& app) {
   cmd->add_option("--zoom", o->zoom, "Zoom in by this many scroll notches (negative: out)")
       ->check(finite_range(-100.0, 100.0))
       ->capture_default_str();
+  add_threads_option(cmd, o->threads);
   cmd->add_flag("--wireframe", o->wireframe, "Draw the triangle edges");
   cmd->add_flag("--springs", o->springs, "Draw the structural springs coloured by strain");
   cmd->add_flag("--quiet", o->quiet, "No progress bar and no summary");

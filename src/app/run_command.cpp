@@ -40,9 +40,7 @@ struct RunOptions {
 };
 
 int run(const RunOptions& o) {
-#ifdef _OPENMP
-  if (o.threads > 0) omp_set_num_threads(o.threads);
-#endif
+  use_threads(o.threads);
   std::vector<std::string> sets = o.sets;
   if (o.seconds) sets.push_back("duration=" + exact_number(*o.seconds));
   const std::string source = io::source_name(o.scene);
@@ -173,8 +171,7 @@ std::function<int()> add_run_command(CLI::App& app) {
       ->check(CLI::Range(1, 1 << 30))
       ->needs(export_dir)
       ->capture_default_str();
-  cmd->add_option("--threads", o->threads, "Threads to use (default: all cores)")
-      ->check(CLI::Range(1, 1024));
+  add_threads_option(cmd, o->threads);
   cmd->add_flag("--quiet", o->quiet, "No progress bar and no summary");
   cmd->add_flag("--force", o->force,
                 "Run beyond the memory and work budgets, and export into a folder that holds an "

@@ -26,8 +26,8 @@ struct RunHooks {
   std::string progress_label;
 };
 
-/// Steps `sim` until `frames` frames are done, it diverges, or SIGINT/SIGTERM arrives (the
-/// frame under way is finished first).
+/// Steps `sim` until `frames` frames are done, it diverges, or SIGINT/SIGTERM/SIGHUP arrives
+/// (the frame under way stops at its next substep; the state is kept where it stopped).
 RunResult run_frames(Simulation& sim, int64_t frames, const RunHooks& hooks);
 
 /// What a command may spend unless --force is given: memory for the cloth, and work for the

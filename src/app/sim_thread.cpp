@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 
+#include "app/options.h"
 #include "drape/error.h"
 
 namespace drape::app {
@@ -11,11 +12,14 @@ namespace {
 using Clock = std::chrono::steady_clock;
 }
 
-SimThread::SimThread(std::unique_ptr<Simulation> sim, bool realtime)
+SimThread::SimThread(std::unique_ptr<Simulation> sim, bool realtime, int threads)
     : sim_(std::move(sim)), realtime_(realtime) {
   model_ = std::make_shared<ClothModel>(sim_->model());
   publish(-1.0);
-  thread_ = std::thread([this] { loop(); });
+  thread_ = std::thread([this, threads] {
+    use_threads(threads);  // OpenMP's thread count belongs to the thread that opens the loops
+    loop();
+  });
 }
 
 SimThread::~SimThread() {

@@ -40,8 +40,9 @@ struct SimSnapshot {
 class SimThread {
  public:
   /// Starts the thread, paused. `realtime`: while playing, frames follow the wall clock (one
-  /// frame per dt at most); otherwise frames are taken only through step_and_wait().
-  SimThread(std::unique_ptr<Simulation> sim, bool realtime);
+  /// frame per dt at most); otherwise frames are taken only through step_and_wait(). `threads`:
+  /// the simulation's threads (0: every core).
+  SimThread(std::unique_ptr<Simulation> sim, bool realtime, int threads = 0);
   ~SimThread();  ///< finishes the frame under way, then stops
   SimThread(const SimThread&) = delete;
   SimThread& operator=(const SimThread&) = delete;

@@ -37,6 +37,8 @@ void Progress::finish() {
 
 namespace {
 volatile std::sig_atomic_t g_signal = 0;
+std::atomic<bool> g_stop{false};
+static_assert(std::atomic<bool>::is_always_lock_free, "set from a signal handler");
 extern "C" void on_signal(int signal) {
   // A second signal means now: a frame of a large cloth can take minutes. Back to the default
   // action, which ends the process (signal and raise are async-signal-safe).
@@ -46,6 +48,7 @@ extern "C" void on_signal(int signal) {
     return;
   }
   g_signal = signal;
+  g_stop.store(true, std::memory_order_relaxed);
 }
 }  // namespace
 
@@ -58,5 +61,7 @@ void install_interrupt_handlers() {
 }
 
 int interrupt_signal() { return g_signal; }
+
+const std::atomic<bool>* interrupt_flag() { return &g_stop; }
 
 }  // namespace drape::app

@@ -1,8 +1,9 @@
 // Terminal output for long runs: a progress bar on a terminal, nothing when piped; and the
-// SIGINT/SIGTERM/SIGHUP flag that lets a run finish its frame, write what it has and exit
-// cleanly.
+// SIGINT/SIGTERM/SIGHUP flag that stops a run at its next substep, so that it writes what it
+// has and exits cleanly.
 #pragma once
 
+#include <atomic>
 #include <chrono>
 #include <cstdint>
 #include <string>
@@ -32,6 +33,9 @@ class Progress {
 void install_interrupt_handlers();
 /// The signal received since install_interrupt_handlers(), or 0.
 int interrupt_signal();
+/// Turns true with the first signal: for Simulation::set_stop_flag, so that a long frame stops
+/// at its next substep.
+const std::atomic<bool>* interrupt_flag();
 /// The conventional exit code for a run stopped by `signal`: 128 + signal (129, 130, 143).
 inline int interrupt_exit_code(int signal) { return 128 + signal; }
 

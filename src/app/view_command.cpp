@@ -31,6 +31,7 @@ struct ViewCommandOptions {
   std::string screenshot;
   std::string report;
   std::string drag;
+  int threads = 0;
   bool no_vsync = false;
   bool no_panel = false;
   bool force = false;
@@ -56,6 +57,7 @@ int view(const ViewCommandOptions& c) {
   o.frames = c.frames;
   o.screenshot = c.screenshot;
   o.report = c.report;
+  o.threads = c.threads;
   SceneDef def;
   try {
     parse_size("--size", c.size, o.width, o.height);
@@ -115,6 +117,7 @@ std::function<int()> add_view_command(CLI::App& app) {
       ->check(kNonEmpty);
   cmd->add_option("--drag", o->drag,
                   "With --frames: press at x0,y0, drag to x1,y1 (window units), hold to the end");
+  add_threads_option(cmd, o->threads);
   cmd->add_flag("--no-vsync", o->no_vsync, "Draw as fast as possible");
   cmd->add_flag("--no-panel", o->no_panel, "Hide the control panel");
   cmd->add_flag("--force", o->force, "Open a cloth, or a window, beyond the memory budget");

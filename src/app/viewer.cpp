@@ -363,7 +363,7 @@ bool Viewer::rebuild(const SceneDef& def) {
     if (sim_) {
       sim_->replace(std::move(sim));
     } else {
-      sim_ = std::make_unique<SimThread>(std::move(sim), o_.frames == 0);
+      sim_ = std::make_unique<SimThread>(std::move(sim), o_.frames == 0, o_.threads);
     }
     def_ = def;
     edit_ = def;

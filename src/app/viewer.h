@@ -24,6 +24,7 @@ struct ViewerOptions {
   int64_t frames = 0;      ///< > 0: run this many frames, then exit (scripted use)
   std::string screenshot;  ///< scripted: save the last frame here as PNG
   std::string report;      ///< scripted: write figures (and the drag's result) as JSON
+  int threads = 0;         ///< the simulation's threads; 0: every core
   /// Scripted drag in window units: press at (x0, y0), move to (x1, y1) over the first half of
   /// the frames, hold until the end.
   std::optional<std::array<double, 4>> drag;

@@ -208,22 +208,10 @@ void check(const SceneDef& def) {
 
   const SolverDef& s = def.solver;
   range(s.dt, 1e-6, 0.1, "solver.dt");
-  if (s.method == Method::automatic) {
-    // auto sets these itself; a value asked for would be silently replaced.
-    const SolverDef defaults;
-    auto chosen = [&](bool set, const char* key) {
-      require(!set, std::string("solver.") + key,
-              "is chosen by the auto method itself; remove it, or pick a method (e.g. \"xpbd\") "
-              "to set it");
-    };
-    chosen(s.precision != defaults.precision, "precision");
-    chosen(s.substeps != defaults.substeps, "substeps");
-    chosen(s.iterations != defaults.iterations, "iterations");
-    chosen(s.stiff_sweeps != defaults.stiff_sweeps, "stiff_sweeps");
-    chosen(s.line_passes != defaults.line_passes, "line_passes");
-  }
   range(s.tolerance, 1e-4, 1.0, "solver.tolerance");
-  require(s.precision == Precision::f64 || s.method == Method::xpbd, "solver.precision",
+  require(s.precision == Precision::f64 || s.method == Method::xpbd ||
+              s.method == Method::automatic,  // which says why below
+          "solver.precision",
           std::string("\"single\" is implemented by the xpbd method only, not by ") +
               to_string(s.method) + "; use \"double\" or solver.method \"xpbd\"");
   require(s.substeps >= 0 && s.substeps <= 1'000'000, "solver.substeps",
@@ -238,6 +226,20 @@ void check(const SceneDef& def) {
           "is " + std::to_string(s.stiff_sweeps) + ", must be in [0, 10000]");
   require(s.line_passes >= 0 && s.line_passes <= 10000, "solver.line_passes",
           "is " + std::to_string(s.line_passes) + ", must be in [0, 10000]");
+  if (s.method == Method::automatic) {
+    // auto sets these itself; a value asked for would be silently replaced.
+    const SolverDef defaults;
+    auto chosen = [&](bool set, const char* key) {
+      require(!set, std::string("solver.") + key,
+              "is chosen by the auto method (the default) itself; remove it, or name a method "
+              "(e.g. solver.method \"xpbd\") to set it");
+    };
+    chosen(s.precision != defaults.precision, "precision");
+    chosen(s.substeps != defaults.substeps, "substeps");
+    chosen(s.iterations != defaults.iterations, "iterations");
+    chosen(s.stiff_sweeps != defaults.stiff_sweeps, "stiff_sweeps");
+    chosen(s.line_passes != defaults.line_passes, "line_passes");
+  }
   // Solved exactly, rows and columns are rigid, and rigid chains under a pin's whole load
   // oscillate and tear at the steps line passes are for; attachments take that load.
   require(s.line_passes == 0 || def.cloth.pins.empty() || def.cloth.long_range.enabled,

@@ -118,8 +118,10 @@ const char* divergence_hint(Method m) {
 
 bool Simulation::step() {
   if (diverged()) return false;
-  World world{model_, state_, def_.forces, colliders_, time(), *attachments_};
+  World world{model_, state_, def_.forces, colliders_, time(), *attachments_, stop_};
   solver_->step_frame(world, def_.solver.dt);
+  stopped_ = world.cut_short;
+  if (stopped_) return true;  // part of a frame: not counted, and its energy is not watched
   ++frame_;
 
   // Divergence watch. The energy now may not exceed what the start state (kinetic, spring and

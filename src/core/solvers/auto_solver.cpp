@@ -19,6 +19,7 @@
 // the step is taken back and the level becomes a ceiling for kCeilingFrames, and the choice says
 // the tolerance is out of reach.
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 #include "drape/error.h"
@@ -97,7 +98,7 @@ class AutoSolver final : public Solver {
                              std::to_string(ladder_.back().substeps) + ")");
       level_ = std::min(level_, static_cast<int>(ladder_.size()) - 1);
       floor_ = 0, calm_ = 0, since_lower_ = kCalmWindows, ceiling_ = -1, ceiling_frames_ = 0;
-      raised_ = false, frame_ = 0, window_strain_ = 0.0;
+      raised_ = false, frame_ = 0, last_window_strain_ = 0.0;
       planned_ = true;
     }
     if (!inner_)
@@ -107,13 +108,18 @@ class AutoSolver final : public Solver {
 
   void step_frame(World& w, double dt) override {
     inner_->step_frame(w, dt);
+    if (w.cut_short) return;  // a part of a frame says nothing about the effort it needs
     choice_.strain = max_strain(w.state.x);
-    window_strain_ = std::max(window_strain_, choice_.strain);
+    window_[frame_ % kWindow] = choice_.strain;
     if (ceiling_frames_ > 0 && --ceiling_frames_ == 0) ceiling_ = -1;
     if (++frame_ % kWindow == 0) {
-      decide(w, window_strain_);
-      last_window_strain_ = window_strain_;
-      window_strain_ = 0.0;
+      // The window's median frame: the error a method leaves is there in every frame, while a
+      // gust or a snap stretches the cloth for a frame or two, which no effort would shorten.
+      std::array<double, kWindow> sorted = window_;
+      std::nth_element(sorted.begin(), sorted.begin() + kWindow / 2, sorted.end());
+      const double strain = sorted[kWindow / 2];
+      decide(w, strain);
+      last_window_strain_ = strain;
     }
   }
 
@@ -209,7 +215,8 @@ class AutoSolver final : public Solver {
   int ceiling_ = -1, ceiling_frames_ = 0;  ///< no higher than ceiling_ for that many frames
   bool raised_ = false;                 ///< the last window ended with a step up
   int64_t frame_ = 0;
-  double window_strain_ = 0.0, last_window_strain_ = 0.0;
+  std::array<double, kWindow> window_{};  ///< the largest strain of each frame of the window
+  double last_window_strain_ = 0.0;
   AutoChoice choice_;
 };
 

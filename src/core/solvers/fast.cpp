@@ -121,6 +121,7 @@ class Fast final : public Solver {
     const ClothModel& m = w.model;
     const int32_t n = m.size();
     for (int k = 0; k < substeps_; ++k) {
+      if (k > 0 && w.stop_here()) break;
       inertia(w, w.time + k * h_);
       const double h2 = h_ * h_;
       double omega = 1.0;

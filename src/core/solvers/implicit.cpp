@@ -49,6 +49,7 @@ class Implicit final : public Solver {
     ClothState& s = w.state;
     const int32_t n = w.model.size();
     for (int k = 0; k < substeps_; ++k) {
+      if (k > 0 && w.stop_here()) break;
       assemble(w, h, w.time + k * h);
       last_iterations_ = solve(w.model, s);
       // Newton update with contact friction, then drag (semi-implicit, stable at any h) and

@@ -2,6 +2,7 @@
 // substeps as the method needs. Methods share forces.h and collider.h.
 #pragma once
 
+#include <atomic>
 #include <memory>
 #include <string>
 #include <vector>
@@ -23,6 +24,15 @@ struct World {
   const std::vector<Collider>& colliders;
   double time;                  ///< s, at the start of the frame
   const LongRange& attachments;  ///< long-range attachments to apply (cloth.long_range)
+  const std::atomic<bool>* stop = nullptr;  ///< when it turns true, the frame stops early
+  bool cut_short = false;                   ///< set by the solver that stopped early
+
+  /// Called between substeps: whether to stop here, leaving the frame part done (the stop flag
+  /// is up). Records that the frame was cut short.
+  bool stop_here() {
+    if (stop && stop->load(std::memory_order_relaxed)) cut_short = true;
+    return cut_short;
+  }
 };
 
 class Solver {
@@ -32,7 +42,8 @@ class Solver {
   /// Sizes the workspace (step_frame allocates nothing). Throws InputError if the method
   /// cannot run this set-up (e.g. too many substeps).
   virtual void prepare(const World& world, const SolverDef& def) = 0;
-  /// Advances one frame of dt. Leaves state.normal up to date.
+  /// Advances one frame of dt, or part of it: between substeps it asks world.stop_here() and
+  /// stops when told to. Leaves state.normal up to date.
   virtual void step_frame(World& world, double dt) = 0;
   /// Says that the state was changed since the last frame other than by step_frame or a
   /// prepare() (the hand moved a held particle). A method that keeps the state in arrays of its

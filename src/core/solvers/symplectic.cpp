@@ -55,6 +55,7 @@ class Symplectic final : public Solver {
     const int32_t n = w.model.size();
     const bool wind = w.forces.wind.strength > 0.0 && w.forces.wind.coefficient > 0.0;
     for (int k = 0; k < substeps_; ++k) {
+      if (k > 0 && w.stop_here()) break;
       // 1. Forces at the start of the substep.
 #pragma omp parallel for schedule(static) if (worth_threads(n))
       for (int32_t i = 0; i < n; ++i) force_[i] = w.model.mass[i] * w.forces.gravity;

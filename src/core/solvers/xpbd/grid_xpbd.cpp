@@ -135,6 +135,12 @@ class GridXpbd final : public Solver {
                           read);
       }
       for (int k = 0; k < substeps_; ++k) {
+        if (k > 0 && w.stop) {
+          // One thread asks; the barrier that ends `single` shows every thread its answer.
+#pragma omp single
+          stopping_ = w.stop_here();
+          if (stopping_) break;
+        }
         particles_.predict(h, drag);
         for (int it = 0; it < iterations_; ++it) project_springs(h, it);
         if (lines_) {
@@ -807,6 +813,7 @@ class GridXpbd final : public Solver {
   // reading the state back: at 128×128 that read took 0.05 ms of a 1 ms frame on two threads,
   // its arrays having left the caches during the frame. They hold each position more exactly
   // than the state does (as base + move, whose sum the state holds rounded to double).
+  bool stopping_ = false;  ///< the frame stops early (shared by the threads)
   bool current_ = false;
   int substeps_ = 1;
   int iterations_ = kDefaultIterations;

@@ -226,6 +226,12 @@ class MeshXpbd final : public Solver {
           particles_.read(s, i, i, wind ? Vec3(g + s.inv_mass[i] * scratch_[i]) : g, read);
       }
       for (int k = 0; k < substeps_; ++k) {
+        if (k > 0 && w.stop) {
+          // One thread asks; the barrier that ends `single` shows every thread its answer.
+#pragma omp single
+          stopping_ = w.stop_here();
+          if (stopping_) break;
+        }
         particles_.predict(h, drag);
         for (int it = 0; it < iterations_; ++it) {
           if (iterations_ > 1)
@@ -443,6 +449,7 @@ class MeshXpbd final : public Solver {
 
   int32_t n_ = 0, slots_ = 0, still_ = 0;
   // Whether the arrays hold the state as the last frame left it (see the grid solver).
+  bool stopping_ = false;  ///< the frame stops early (shared by the threads)
   bool current_ = false;
   int substeps_ = 1;
   int iterations_ = kDefaultIterations;
