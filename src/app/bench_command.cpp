@@ -164,6 +164,12 @@ Row bench_one(const BenchOptions& o, const std::string& scene, int n, const Vari
   const RunResult r = run_frames(*sim, o.frames, hooks);
   const Diagnostics d = sim->diagnostics();
   row.frames = r.frames;
+  if (const AutoChoice* a = sim->auto_choice()) {  // what auto ended on, not what it was given
+    row.precision = to_string(a->precision);
+    row.substeps = a->substeps;
+    row.stiff_sweeps = a->stiff_sweeps;
+    row.line_passes = a->line_passes;
+  }
   row.ms_median = r.median_ms();
   row.ms_p10 = percentile(r.frame_ms, 0.1);
   row.ms_p90 = percentile(r.frame_ms, 0.9);
@@ -373,11 +379,17 @@ int bench(BenchOptions o) {
       return kExitBadInput;
     }
   }
+  // auto chooses its precision itself: it runs once, whatever --precision lists.
   std::vector<Variant> variants;
-  for (const std::string& m : o.methods)
+  for (const std::string& m : o.methods) {
+    if (m == to_string(Method::automatic)) {
+      variants.push_back({m, to_string(Precision::f64)});
+      continue;
+    }
     for (const std::string& p : o.precisions)
       if (p == to_string(Precision::f64) || m == to_string(Method::xpbd))
         variants.push_back({m, p});
+  }
   if (variants.empty()) {
     std::fprintf(stderr,
                  "drape: error: --precision: only xpbd runs in single precision; add double or "
@@ -456,7 +468,7 @@ std::function<int()> add_bench_command(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--methods", o->methods, "Methods (default: all)")->delimiter(',');
   cmd->add_option("--precision", o->precisions,
-                  "Precisions: double, single (single runs xpbd only)")
+                  "Precisions: double, single (single runs xpbd only; auto chooses its own)")
       ->delimiter(',')
       ->capture_default_str();
   cmd->add_option("--threads", o->threads, "Thread counts")

@@ -92,9 +92,9 @@ constexpr ExitCode kExitCodes[] = {
     {kExitDiverged, "the simulation diverged (frame, reason and a hint are printed)"},
     {kExitNoGraphics, "no display, or no OpenGL 3.3 context"},
     {kExitOutputFailed, "an output could not be written (after the summary)"},
-    {129, "stopped by SIGHUP (terminal closed) after the frame under way"},
-    {130, "stopped by SIGINT (Ctrl-C) after the frame under way"},
-    {143, "stopped by SIGTERM after the frame under way"},
+    {129, "stopped by SIGHUP (terminal closed) at the next substep (a second one: at once)"},
+    {130, "stopped by SIGINT (Ctrl-C) at the next substep (a second one: at once)"},
+    {143, "stopped by SIGTERM at the next substep (a second one: at once)"},
 };
 
 }  // namespace

@@ -4,7 +4,7 @@
 // tolerance) and keeps the cheapest effort that holds the tolerance, deciding every kWindow
 // frames from the largest structural strain over them: it raises its effort a step on a ladder
 // of settings when the strain passes kRaise of the tolerance, and lowers it a step after a calm
-// second below kLower.
+// half second below kLower.
 //
 // The ladder: on a grid where line passes may run (no pin, or the pins' long-range attachments
 // on) the bench's configurations, 4 substeps of 2 to 6 passes with 0 to 2 stiff sweeps after
@@ -12,12 +12,14 @@
 // without attachments, which auto may not turn on: that would change the physics) substeps
 // with two stiff sweeps each, from xpbd's own automatic count.
 //
-// Two rules keep it from see-sawing and from paying for nothing. A step down that has to be
-// taken back within two windows marks the level below as too low (a floor). A step up that
-// leaves the strain where it was (above 90% of the window before) shows that the strain is the
-// springs' own stretch, which no effort removes (soft springs, point pins without attachments):
-// the step is taken back and the level becomes a ceiling for kCeilingFrames, and the choice says
-// the tolerance is out of reach.
+// The strain of a window is its median frame's largest: a gust or a landing stretches the cloth
+// for a frame or two, which no effort would shorten, while a method's error is there every
+// frame. Two rules keep it from see-sawing and from paying for nothing. A step down that has to
+// be taken back within two windows marks the level below as too low (a floor). Two steps up in
+// a row that leave the strain where it was (above 90% of the window before; a step taken while
+// the strain was rising is not judged) show that the strain is the springs' own stretch, which no effort removes (soft springs, point pins without
+// attachments): both are taken back, the level becomes a ceiling for kCeilingFrames, and the
+// choice says the tolerance is out of reach.
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -42,7 +44,11 @@ struct Effort {
 constexpr Effort kLineLadder[] = {{4, 2, 0}, {4, 2, 1}, {4, 2, 2}, {4, 3, 1}, {4, 3, 2},
                                   {4, 4, 1}, {4, 4, 2}, {4, 5, 2}, {4, 6, 2}, {6, 6, 2},
                                   {9, 6, 2}, {14, 6, 2}, {21, 6, 2}, {32, 6, 2}};
-constexpr int kLineStart = 5;  // 4 + 4 lines + 1 sweep: what the bench's drape needs at 128², 256²
+// Where the line ladder starts: what the bench's cheapest passing runs needed. A free cloth
+// (drape, 128² and 256²) 4 + 4 lines + 1 sweep; a pinned one, whose attachments carry the load
+// (hang-lr), the least, 4 + 2 lines.
+constexpr int kLineStartFree = 5;
+constexpr int kLineStartPinned = 0;
 constexpr int kSubstepLadder[] = {4,   6,   9,   14,  21,  32,   48,   72,  108,
                                   162, 243, 365, 548, 822, 1233, 1850, 2775};
 constexpr int kSweepsWithSubsteps = 2;
@@ -52,6 +58,7 @@ constexpr double kLower = 0.4;    // lower after a calm second below this share
 constexpr int kWindow = 10;       // frames between decisions
 constexpr int kCalmWindows = 6;   // a second at 60 frames a second
 constexpr double kHelped = 0.9;   // a raise must bring the strain below this share of before
+constexpr double kRising = 1.1;   // ... unless the strain had grown by this factor before it
 constexpr int kCeilingFrames = 300;
 
 class AutoSolver final : public Solver {
@@ -76,7 +83,7 @@ class AutoSolver final : public Solver {
       ladder_.clear();
       if (lines) {
         ladder_.assign(std::begin(kLineLadder), std::end(kLineLadder));
-        level_ = kLineStart;
+        level_ = pinned ? kLineStartPinned : kLineStartFree;
       } else {
         for (int s : kSubstepLadder) ladder_.push_back({s, 0, kSweepsWithSubsteps});
         // Start where xpbd's own rule (m/h² ≥ k for every spring) puts it, or at the top.
@@ -98,7 +105,8 @@ class AutoSolver final : public Solver {
                              std::to_string(ladder_.back().substeps) + ")");
       level_ = std::min(level_, static_cast<int>(ladder_.size()) - 1);
       floor_ = 0, calm_ = 0, since_lower_ = kCalmWindows, ceiling_ = -1, ceiling_frames_ = 0;
-      raised_ = false, frame_ = 0, last_window_strain_ = 0.0;
+      unhelpful_ = 0;
+      raised_ = false, frame_ = 0, last_window_strain_ = 0.0, window_before_strain_ = 0.0;
       planned_ = true;
     }
     if (!inner_)
@@ -119,6 +127,7 @@ class AutoSolver final : public Solver {
       std::nth_element(sorted.begin(), sorted.begin() + kWindow / 2, sorted.end());
       const double strain = sorted[kWindow / 2];
       decide(w, strain);
+      window_before_strain_ = last_window_strain_;
       last_window_strain_ = strain;
     }
   }
@@ -131,20 +140,27 @@ class AutoSolver final : public Solver {
   const AutoChoice* auto_choice() const override { return &choice_; }
 
  private:
-  // One decision on the largest strain of the window just ended.
+  // One decision on the strain of the window just ended.
   void decide(const World& w, double strain) {
     const double tolerance = def_.tolerance;
     const int top = ceiling_ >= 0 ? ceiling_ : static_cast<int>(ladder_.size()) - 1;
     ++since_lower_;
+    if (strain <= tolerance) choice_.out_of_reach = false;
     if (strain > kRaise * tolerance) {
       calm_ = 0;
-      if (raised_ && strain > kHelped * last_window_strain_) {
-        // The last step up did not help: take it back and go no higher for a while.
-        ceiling_ = level_ - 1;
+      // A step up taken while the strain was rising (the cloth falling, landing, swinging out)
+      // cannot be judged by the window after it.
+      if (raised_ && last_window_strain_ <= kRising * window_before_strain_)
+        unhelpful_ = strain > kHelped * last_window_strain_ ? unhelpful_ + 1 : 0;
+      if (unhelpful_ >= 2) {
+        // Two steps up in a row did not help: take both back and go no higher for a while.
+        const int back = std::max(0, level_ - 2);
+        ceiling_ = back;
         ceiling_frames_ = kCeilingFrames;
-        choice_.out_of_reach = true;
+        choice_.out_of_reach = strain > tolerance;
         raised_ = false;
-        change(w, level_ - 1);
+        unhelpful_ = 0;
+        change(w, back);
         ++choice_.lowers;
         return;
       }
@@ -158,6 +174,7 @@ class AutoSolver final : public Solver {
       return;
     }
     raised_ = false;
+    unhelpful_ = 0;
     if (strain < kLower * tolerance) {
       if (++calm_ >= kCalmWindows && level_ > floor_) {
         calm_ = 0;
@@ -168,7 +185,6 @@ class AutoSolver final : public Solver {
     } else {
       calm_ = 0;
     }
-    if (strain <= kRaise * tolerance) choice_.out_of_reach = false;
   }
 
   void change(const World& w, int level) {
@@ -214,9 +230,10 @@ class AutoSolver final : public Solver {
   int since_lower_ = 0;                 ///< windows since the last step down
   int ceiling_ = -1, ceiling_frames_ = 0;  ///< no higher than ceiling_ for that many frames
   bool raised_ = false;                 ///< the last window ended with a step up
+  int unhelpful_ = 0;                   ///< steps up in a row that left the strain as it was
   int64_t frame_ = 0;
   std::array<double, kWindow> window_{};  ///< the largest strain of each frame of the window
-  double last_window_strain_ = 0.0;
+  double last_window_strain_ = 0.0, window_before_strain_ = 0.0;
   AutoChoice choice_;
 };
 
