@@ -157,6 +157,7 @@ Row bench_one(const BenchOptions& o, const std::string& scene, int n, const Vari
   }
 
   RunHooks hooks;
+  hooks.threads = threads;
   hooks.after_frame = [&](const Simulation& s) {
     if (s.frame() > o.frames - kLastSecondFrames)
       row.strain_last_second = std::max(row.strain_last_second, s.diagnostics().max_strain);

@@ -164,6 +164,7 @@ int compare(const CompareOptions& o) {
       continue;
     }
     RunHooks hooks;
+    hooks.threads = o.threads;
     hooks.progress_label = io::shown(def.name, 30) + " " + row.method;  // only on a terminal
     const RunResult run = run_frames(*sim, frames, hooks);
     any_ran = true;

@@ -226,6 +226,7 @@ int render(const RenderOptions& o) {
     std::fflush(stdout);
   }
   RunHooks hooks;
+  hooks.threads = o.threads;
   if (!o.quiet) hooks.progress_label = io::shown(sim->def().name, 30);
   hooks.after_frame = [&](const Simulation& s) {
     if (s.frame() % every == 0 || s.frame() == frames) draw_frame(s);

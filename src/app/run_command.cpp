@@ -87,6 +87,7 @@ int run(const RunOptions& o) {
 
   std::optional<Exporter> exporter;
   RunHooks hooks;
+  hooks.threads = o.threads;
   if (!o.quiet) hooks.progress_label = io::shown(sim->def().name, 30);
   if (!o.export_path.empty()) {
     exporter.emplace(target, frames, "drape " DRAPE_VERSION);

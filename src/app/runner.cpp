@@ -7,6 +7,7 @@
 
 #include "app/commands.h"
 #include "app/terminal.h"
+#include "app/thread_chooser.h"
 #include "drape/error.h"
 #include "io/output_file.h"
 
@@ -34,9 +35,12 @@ RunResult run_frames(Simulation& sim, int64_t frames, const RunHooks& hooks) {
   // A signal stops the frame under way at its next substep (a 256×256 symplectic frame takes
   // seconds): the part done is kept, but neither timed nor counted.
   sim.set_stop_flag(interrupt_flag());
+  ThreadChooser threads(hooks.threads);
   for (int64_t f = 0; started && f < frames; ++f) {
+    threads.before_frame();
     const auto t0 = clock::now();
     const bool ok = sim.step();
+    threads.after_frame(std::chrono::duration<double, std::milli>(clock::now() - t0).count());
     if (sim.stopped()) {
       r.status = RunStatus::interrupted;
       r.signal = interrupt_signal();

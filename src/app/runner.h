@@ -24,6 +24,9 @@ struct RunHooks {
   std::function<void(const Simulation&)> after_frame;
   /// Text after the progress bar; empty: no bar.
   std::string progress_label;
+  /// Threads to step with (--threads); 0: the faster of one and all, by the clock
+  /// (ThreadChooser).
+  int threads = 0;
 };
 
 /// Steps `sim` until `frames` frames are done, it diverges, or SIGINT/SIGTERM/SIGHUP arrives

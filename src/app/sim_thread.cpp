@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <chrono>
 
-#include "app/options.h"
+#include "app/thread_chooser.h"
 #include "drape/error.h"
 
 namespace drape::app {
@@ -16,10 +16,7 @@ SimThread::SimThread(std::unique_ptr<Simulation> sim, bool realtime, int threads
     : sim_(std::move(sim)), realtime_(realtime) {
   model_ = std::make_shared<ClothModel>(sim_->model());
   publish(-1.0);
-  thread_ = std::thread([this, threads] {
-    use_threads(threads);  // OpenMP's thread count belongs to the thread that opens the loops
-    loop();
-  });
+  thread_ = std::thread([this, threads] { loop(threads); });
 }
 
 SimThread::~SimThread() {
@@ -122,12 +119,17 @@ void SimThread::toggle_pin(int32_t particle) {
   });
 }
 
-void SimThread::loop() {
-  auto step = [this] {
+void SimThread::loop(int threads) {
+  // OpenMP's thread count belongs to the thread that opens the loops: this one.
+  ThreadChooser chooser(threads);
+  auto step = [this, &chooser] {
+    chooser.before_frame();
     const auto t0 = Clock::now();
     sim_->step();
+    const double ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+    chooser.after_frame(ms);
     if (sim_->grabbed() >= 0) hand_.frame_done(sim_->def().solver.dt);
-    return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+    return ms;
   };
   Clock::time_point due = Clock::now();
   std::unique_lock lock(mutex_);

@@ -41,7 +41,7 @@ class SimThread {
  public:
   /// Starts the thread, paused. `realtime`: while playing, frames follow the wall clock (one
   /// frame per dt at most); otherwise frames are taken only through step_and_wait(). `threads`:
-  /// the simulation's threads (0: every core).
+  /// the simulation's threads (0: chosen by the clock, ThreadChooser).
   SimThread(std::unique_ptr<Simulation> sim, bool realtime, int threads = 0);
   ~SimThread();  ///< finishes the frame under way, then stops
   SimThread(const SimThread&) = delete;
@@ -68,7 +68,7 @@ class SimThread {
 
  private:
   void post(std::function<void()> command);
-  void loop();
+  void loop(int threads);
   void publish(double step_ms);
 
   std::unique_ptr<Simulation> sim_;  // touched by the thread only, after construction
