@@ -60,24 +60,28 @@ TEST(Determinism, TheThreadCountDoesNotChangeTheBits) {
   SceneDef def = shipped("wind");
   def.cloth.cols = def.cloth.rows = 96;
   def.cloth.mass = 100.0;  // heavy, so a few substeps are stable and the test stays quick
+  def.solver.method = Method::symplectic;
   def.solver.substeps = 20;
   const int before = omp_get_max_threads();
-  // The scene's own method, then xpbd (its grid sweeps with stiff sweeps, and line passes with
-  // attachments and stiff sweeps after them) in both precisions.
+  // The seed's method, then xpbd (its grid sweeps with stiff sweeps, and line passes with
+  // attachments and stiff sweeps after them) in both precisions, then auto (which the default
+  // thread count's choice, app/thread_chooser.h, relies on).
   for (Precision precision : {Precision::f64, Precision::f32}) {
-    for (int variant = 0; variant < 3; ++variant) {
-      const bool xpbd = variant > 0, lines = variant == 2;
+    for (int variant = 0; variant < 4; ++variant) {
+      const bool xpbd = variant == 1 || variant == 2, lines = variant == 2;
       if (!xpbd && precision == Precision::f32) continue;
       SceneDef d = def;
+      if (variant == 3) d.solver.method = Method::automatic, d.solver.substeps = 0;
       if (xpbd) d.solver.method = Method::xpbd;
       if (xpbd) d.solver.stiff_sweeps = 2;
       if (lines) d.solver.line_passes = 2;
       if (lines) d.cloth.long_range.enabled = true;
       d.solver.precision = precision;
+      const int frames = variant == 3 ? 40 : 3;  // auto decides every 10 frames
       omp_set_num_threads(1);
-      const uint64_t one = run(d, 3);
+      const uint64_t one = run(d, frames);
       omp_set_num_threads(2);
-      const uint64_t two = run(d, 3);
+      const uint64_t two = run(d, frames);
       EXPECT_EQ(one, two) << to_string(d.solver.method) << " " << to_string(precision)
                           << (lines ? " with line passes" : "");
     }
