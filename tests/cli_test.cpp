@@ -2,7 +2,6 @@
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 
-#include <array>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -10,6 +9,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "drape_process.h"
 #include "shipped_scenes.h"
 #include "temp_dir.h"
 
@@ -18,23 +18,9 @@ namespace {
 namespace fs = std::filesystem;
 using nlohmann::json;
 
-struct Result {
-  int code = -1;
-  std::string output;  // stdout and stderr together
-};
+using Result = drape::testing_support::CommandResult;
 
-Result drape(const std::string& args) {
-  const std::string command = std::string(DRAPE_EXE) + " " + args + " 2>&1";
-  Result r;
-  FILE* pipe = popen(command.c_str(), "r");
-  if (!pipe) return r;
-  std::array<char, 4096> buf;
-  size_t n;
-  while ((n = fread(buf.data(), 1, buf.size(), pipe)) > 0) r.output.append(buf.data(), n);
-  const int status = pclose(pipe);
-  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return r;
-}
+Result drape(const std::string& args) { return drape::testing_support::run_drape(args); }
 
 std::string scene(const std::string& name) {
   return std::string(DRAPE_SOURCE_DIR) + "/scenes/" + name + ".json";

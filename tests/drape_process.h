@@ -15,9 +15,9 @@ struct CommandResult {
   std::string output;  ///< stdout and stderr together
 };
 
-/// `drape ARGS`, with its exit code and output.
-inline CommandResult run_drape(const std::string& args) {
-  const std::string command = std::string(DRAPE_EXE) + " " + args + " 2>&1";
+/// A shell command, with its exit code and output.
+inline CommandResult run_shell(const std::string& command_line) {
+  const std::string command = command_line + " 2>&1";
   CommandResult r;
   FILE* pipe = popen(command.c_str(), "r");
   if (!pipe) return r;
@@ -27,6 +27,11 @@ inline CommandResult run_drape(const std::string& args) {
   const int status = pclose(pipe);
   r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   return r;
+}
+
+/// `drape ARGS`, with its exit code and output.
+inline CommandResult run_drape(const std::string& args) {
+  return run_shell(std::string(DRAPE_EXE) + " " + args);
 }
 
 /// `drape ARGS` in the background, sent `signal` ("INT", "TERM") after `seconds`; its exit code.

@@ -19,6 +19,7 @@
 #include "io/scene_io.h"
 #include "long_range.h"
 #include "solvers/solver.h"
+#include "equilibrium.h"
 #include "test_scenes.h"
 #include "variants.h"
 
@@ -482,26 +483,7 @@ TEST(StaticEquilibrium, FourCornerSagMatchesSymplecticWithEveryMethod) {
   def.cloth.pins = {{0, 0}, {-1, 0}, {0, -1}, {-1, -1}};
   def.cloth.perturbation = 0.0;
   def.cloth.structural.damping = def.cloth.shear.damping = 2.0;
-  auto rest_shape = [&](Method m, int substeps) {
-    SceneDef d = def;
-    d.solver.method = m;
-    d.solver.substeps = substeps;
-    Simulation sim(d);
-    while (sim.time() < 12.0 - 1e-9) EXPECT_TRUE(sim.step()) << sim.divergence();
-    EXPECT_LT(sim.diagnostics().kinetic_energy, 1e-4) << to_string(m);
-    return sim.state().x;
-  };
-  const std::vector<Vec3> reference = rest_shape(Method::symplectic, 0);
-  double peak_sag = 0.0;
-  for (const Vec3& x : reference) peak_sag = std::max(peak_sag, 1.0 - x.y());
-  ASSERT_GT(peak_sag, 0.05);
-  for (auto [method, substeps] :
-       {std::pair{Method::implicit, 0}, std::pair{Method::fast, 0}, std::pair{Method::xpbd, 200}}) {
-    const std::vector<Vec3> x = rest_shape(method, substeps);
-    double worst = 0.0;
-    for (size_t i = 0; i < x.size(); ++i) worst = std::max(worst, (x[i] - reference[i]).norm());
-    EXPECT_LE(worst, 0.05 * peak_sag) << to_string(method);
-  }
+  testing_support::expect_every_method_rests_where_symplectic_does(def);
 }
 
 class LongRangeOnHang : public ::testing::TestWithParam<Variant> {};

@@ -17,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "drape_process.h"
 #include "shipped_scenes.h"
 #include "stb_image.h"
 #include "temp_dir.h"
@@ -28,22 +29,9 @@ using nlohmann::json;
 
 constexpr int kNoGraphics = 4;  // drape's exit code when no display or context can be had
 
-struct Result {
-  int code = -1;
-  std::string output;  // stdout and stderr together
-};
+using Result = drape::testing_support::CommandResult;
 
-Result shell(const std::string& command) {
-  Result r;
-  FILE* pipe = popen((command + " 2>&1").c_str(), "r");
-  if (!pipe) return r;
-  std::array<char, 4096> buf;
-  size_t n;
-  while ((n = fread(buf.data(), 1, buf.size(), pipe)) > 0) r.output.append(buf.data(), n);
-  const int status = pclose(pipe);
-  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return r;
-}
+Result shell(const std::string& command) { return drape::testing_support::run_shell(command); }
 
 bool on_path(const std::string& program) {
   return shell("command -v " + program + " >/dev/null").code == 0;
