@@ -1,6 +1,8 @@
 #include "drape/self_intersections.h"
 
 #include <algorithm>
+#include <array>
+#include <bit>
 #include <cmath>
 #include <limits>
 #include <utility>
@@ -69,6 +71,15 @@ bool share_a_vertex(const Triangle& s, const Triangle& t) {
   return false;
 }
 
+// Whether all three corners of t lie strictly on one side of s's plane: then the two cannot
+// cross (a point of s's edge inside t would be off s's plane). Most neighbouring pairs of a
+// smooth cloth end here, before the edge tests.
+bool apart(const Vec3* s, const Vec3* t) {
+  const int side = orientation(s[0], s[1], s[2], t[0]);
+  return side != 0 && orientation(s[0], s[1], s[2], t[1]) == side &&
+         orientation(s[0], s[1], s[2], t[2]) == side;
+}
+
 struct Box {
   Vec3 lo, hi;
 };
@@ -77,9 +88,11 @@ bool overlap(const Box& a, const Box& b) {
   return (a.lo.array() <= b.hi.array()).all() && (b.lo.array() <= a.hi.array()).all();
 }
 
-// Cells per axis at most, so a cell's three coordinates pack into one 63-bit key.
-constexpr int kCellBits = 21;
-constexpr int64_t kCellsPerAxis = int64_t{1} << kCellBits;
+using Cell = std::array<uint32_t, 3>;
+
+// Bits of an entry that hold the cell, above the triangle's 32: the cell's three coordinates
+// packed, so the entries sort as plain integers.
+constexpr int kCellKeyBits = 32;
 // Cell entries per triangle at most, on average: a few huge triangles (a cloth torn apart by a
 // diverging solver) widen the cells instead of filling memory.
 constexpr int64_t kMaxEntriesPerTriangle = 16;
@@ -88,21 +101,17 @@ constexpr int64_t kMaxEntriesPerTriangle = 16;
 struct Grid {
   Vec3 origin;
   double cell = 1.0;
+  std::array<int, 3> bits{};  ///< of each coordinate in a key
 
-  int64_t coordinate(double v, int axis) const {
+  uint32_t coordinate(double v, int axis) const {
     const double c = std::floor((v - origin[axis]) / cell);
-    return static_cast<int64_t>(std::clamp(c, 0.0, static_cast<double>(kCellsPerAxis - 1)));
+    return static_cast<uint32_t>(std::clamp(c, 0.0, 4294967295.0));
   }
-  Eigen::Array<int64_t, 3, 1> coordinates(const Vec3& p) const {
+  Cell coordinates(const Vec3& p) const {
     return {coordinate(p.x(), 0), coordinate(p.y(), 1), coordinate(p.z(), 2)};
   }
-  static uint64_t key(int64_t i, int64_t j, int64_t k) {
-    return (static_cast<uint64_t>(i) << (2 * kCellBits)) | (static_cast<uint64_t>(j) << kCellBits) |
-           static_cast<uint64_t>(k);
-  }
-  int64_t entries(const Box& b) const {
-    const auto lo = coordinates(b.lo), hi = coordinates(b.hi);
-    return (hi - lo + 1).prod();
+  uint64_t key(uint32_t i, uint32_t j, uint32_t k) const {
+    return (((uint64_t{i} << bits[1]) | j) << bits[2]) | k;
   }
 };
 
@@ -131,32 +140,39 @@ int64_t count_self_intersections(const std::vector<Triangle>& triangles,
   // Nothing can cross where every corner is at one point (or there is no pair).
   if (n < 2 || !(span > 0.0) || !std::isfinite(span)) return 0;
 
-  // Cells as wide as a mean triangle, so a typical triangle enters at most eight; never so
-  // fine that the coordinates overflow, and widened while the entries would be too many.
-  Grid grid{all.lo, std::max(extent_sum / static_cast<double>(n),
-                             span / static_cast<double>(kCellsPerAxis - 1))};
+  // Cells as wide as a mean triangle, so a typical triangle enters at most eight; widened
+  // while the cells' coordinates would not fit a key or the entries would be too many.
+  Grid grid{all.lo, std::max(extent_sum / static_cast<double>(n), span * 0x1p-10)};
+  std::vector<Cell> cell_lo(triangles.size()), cell_hi(triangles.size());
   int64_t entries = 0;
   for (;;) {
+    const Cell last = grid.coordinates(all.hi);
+    for (int axis = 0; axis < 3; ++axis) grid.bits[axis] = std::bit_width(last[axis]);
     entries = 0;
-    for (int32_t t : kept) entries += grid.entries(boxes[t]);
-    if (entries <= kMaxEntriesPerTriangle * n) break;
+    for (int32_t t : kept) {
+      cell_lo[t] = grid.coordinates(boxes[t].lo);
+      cell_hi[t] = grid.coordinates(boxes[t].hi);
+      entries += int64_t{cell_hi[t][0] - cell_lo[t][0] + 1} * (cell_hi[t][1] - cell_lo[t][1] + 1) *
+                 (cell_hi[t][2] - cell_lo[t][2] + 1);
+    }
+    if (grid.bits[0] + grid.bits[1] + grid.bits[2] <= kCellKeyBits &&
+        entries <= kMaxEntriesPerTriangle * n)
+      break;
     grid.cell *= 2.0;
   }
 
-  // Every (cell, triangle) entry, sorted by cell then triangle: a fixed order, whatever the
-  // threads.
-  std::vector<std::pair<uint64_t, int32_t>> cell_triangles;
+  // Every entry, cell key above triangle, sorted: by cell, then triangle, whatever the threads.
+  std::vector<uint64_t> cell_triangles;
   cell_triangles.reserve(static_cast<size_t>(entries));
-  for (int32_t t : kept) {
-    const auto lo = grid.coordinates(boxes[t].lo), hi = grid.coordinates(boxes[t].hi);
-    for (int64_t i = lo[0]; i <= hi[0]; ++i)
-      for (int64_t j = lo[1]; j <= hi[1]; ++j)
-        for (int64_t k = lo[2]; k <= hi[2]; ++k) cell_triangles.push_back({Grid::key(i, j, k), t});
-  }
+  for (int32_t t : kept)
+    for (uint32_t i = cell_lo[t][0]; i <= cell_hi[t][0]; ++i)
+      for (uint32_t j = cell_lo[t][1]; j <= cell_hi[t][1]; ++j)
+        for (uint32_t k = cell_lo[t][2]; k <= cell_hi[t][2]; ++k)
+          cell_triangles.push_back(grid.key(i, j, k) << 32 | static_cast<uint32_t>(t));
   std::sort(cell_triangles.begin(), cell_triangles.end());
   std::vector<int64_t> cell_begin;
   for (size_t e = 0; e < cell_triangles.size(); ++e)
-    if (e == 0 || cell_triangles[e].first != cell_triangles[e - 1].first)
+    if (e == 0 || cell_triangles[e] >> 32 != cell_triangles[e - 1] >> 32)
       cell_begin.push_back(static_cast<int64_t>(e));
   cell_begin.push_back(static_cast<int64_t>(cell_triangles.size()));
 
@@ -166,18 +182,21 @@ int64_t count_self_intersections(const std::vector<Triangle>& triangles,
   int64_t count = 0;  // an integer sum: the same in any order, so for any thread count
 #pragma omp parallel for schedule(dynamic, 64) reduction(+ : count) if (worth_threads(entries))
   for (int64_t cell = 0; cell < cells; ++cell) {
-    const uint64_t key = cell_triangles[cell_begin[cell]].first;
+    const uint64_t key = cell_triangles[cell_begin[cell]] >> 32;
     for (int64_t e = cell_begin[cell]; e < cell_begin[cell + 1]; ++e) {
-      const int32_t s = cell_triangles[e].second;
+      const int32_t s = static_cast<int32_t>(cell_triangles[e] & 0xffffffffu);
       for (int64_t f = e + 1; f < cell_begin[cell + 1]; ++f) {
-        const int32_t t = cell_triangles[f].second;
+        const int32_t t = static_cast<int32_t>(cell_triangles[f] & 0xffffffffu);
         if (!overlap(boxes[s], boxes[t]) || share_a_vertex(triangles[s], triangles[t])) continue;
-        const auto low = grid.coordinates(boxes[s].lo.cwiseMax(boxes[t].lo));
-        if (Grid::key(low[0], low[1], low[2]) != key) continue;
+        // The low corner's cell: floor is monotonic, so it is the larger low cell of the two.
+        const Cell &a = cell_lo[s], &b = cell_lo[t];
+        if (grid.key(std::max(a[0], b[0]), std::max(a[1], b[1]), std::max(a[2], b[2])) != key)
+          continue;
         const Vec3 corners_s[3] = {positions[triangles[s][0]], positions[triangles[s][1]],
                                    positions[triangles[s][2]]};
         const Vec3 corners_t[3] = {positions[triangles[t][0]], positions[triangles[t][1]],
                                    positions[triangles[t][2]]};
+        if (apart(corners_s, corners_t) || apart(corners_t, corners_s)) continue;
         if (triangles_cross(corners_s, corners_t)) ++count;
       }
     }
