@@ -72,7 +72,8 @@ TEST_F(Cli, EveryShippedSceneRunsAndWritesItsStats) {
                             "substeps_per_frame", "sim_seconds", "wall_seconds", "setup_ms",
                             "ms_per_frame", "kinetic_energy", "max_strain", "mean_strain",
                             "max_penetration", "pinned_drift", "finite", "state_bytes",
-                            "model_bytes", "workspace_bytes", "bytes_per_particle"})
+                            "model_bytes", "workspace_bytes", "bytes_per_particle",
+                            "self_intersections"})
       EXPECT_TRUE(s.contains(key)) << name << " lacks " << key;
     EXPECT_DOUBLE_EQ(s["bytes_per_particle"].get<double>(),
                      memory_total(s) / s["particles"].get<double>());
@@ -82,6 +83,7 @@ TEST_F(Cli, EveryShippedSceneRunsAndWritesItsStats) {
     EXPECT_GE(s["particles"], 900) << name;  // 32 × 32 for the grid scenes
     EXPECT_EQ(s["finite"], true);
     EXPECT_EQ(s["pinned_drift"], 0.0);
+    EXPECT_TRUE(s["self_intersections"].is_number_integer()) << name;
   }
 }
 
