@@ -374,6 +374,8 @@ TEST_F(Cli, BenchSearchesXpbdSubstepsAndStiffSweepsForTheBar) {
   else
     EXPECT_TRUE(sweeps == 0 || sweeps == 5) << sweeps;
   EXPECT_GE(row["substep_tries"].get<int>(), 1);
+  // The most self-intersections over the frames counted (a cloth draped on a sphere has none).
+  EXPECT_TRUE(row["self_intersections_max"].is_number_integer()) << row.dump();
   // Without the search, xpbd runs once at its automatic substeps and no stiff sweeps.
   const json plain = bench_rows(
       "--scenes drape --sizes 12 --methods xpbd --precision single --threads 1 --frames 5"
