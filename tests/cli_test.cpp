@@ -58,7 +58,8 @@ TEST_F(Cli, EveryShippedSceneRunsAndWritesItsStats) {
                             "substeps_per_frame", "sim_seconds", "wall_seconds", "setup_ms",
                             "ms_per_frame", "kinetic_energy", "max_strain", "mean_strain",
                             "max_penetration", "pinned_drift", "finite", "state_bytes",
-                            "model_bytes", "workspace_bytes", "bytes_per_particle"})
+                            "model_bytes", "workspace_bytes", "bytes_per_particle",
+                            "self_intersections"})
       EXPECT_TRUE(s.contains(key)) << name << " lacks " << key;
     EXPECT_DOUBLE_EQ(s["bytes_per_particle"].get<double>(),
                      memory_total(s) / s["particles"].get<double>());
@@ -68,6 +69,7 @@ TEST_F(Cli, EveryShippedSceneRunsAndWritesItsStats) {
     EXPECT_GE(s["particles"], 900) << name;  // 32 × 32 for the grid scenes
     EXPECT_EQ(s["finite"], true);
     EXPECT_EQ(s["pinned_drift"], 0.0);
+    EXPECT_TRUE(s["self_intersections"].is_number_integer()) << name;
   }
 }
 
@@ -358,6 +360,8 @@ TEST_F(Cli, BenchSearchesXpbdSubstepsAndStiffSweepsForTheBar) {
   else
     EXPECT_TRUE(sweeps == 0 || sweeps == 5) << sweeps;
   EXPECT_GE(row["substep_tries"].get<int>(), 1);
+  // The most self-intersections over the frames counted (a cloth draped on a sphere has none).
+  EXPECT_TRUE(row["self_intersections_max"].is_number_integer()) << row.dump();
   // Without the search, xpbd runs once at its automatic substeps and no stiff sweeps.
   const json plain = bench_rows(
       "--scenes drape --sizes 12 --methods xpbd --precision single --threads 1 --frames 5"

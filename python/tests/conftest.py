@@ -13,7 +13,7 @@ PHYSICAL_KEYS = [
     "scene", "status", "diverged_frame", "message", "method", "particles", "springs", "frames",
     "substeps_per_frame", "dt", "sim_seconds", "state_bytes", "model_bytes", "workspace_bytes",
     "bytes_per_particle", "kinetic_energy", "max_strain", "mean_strain", "max_penetration",
-    "pinned_drift", "finite", "auto",
+    "pinned_drift", "finite", "auto", "self_intersections",
 ]
 TIMING_KEYS = ["wall_seconds", "setup_ms", "ms_per_frame"]
 

@@ -20,6 +20,7 @@
 #include "app/terminal.h"
 #include "drape/error.h"
 #include "drape/mesh.h"
+#include "drape/self_intersections.h"
 #include "io/output_file.h"
 #include "io/scene_io.h"
 
@@ -60,6 +61,10 @@ bool searchable(const std::string& method) {
 constexpr double kMaxStrain = 0.01;       // structural strain, max over the last second and last
 constexpr double kMaxPenetration = 0.01;  // fraction of the sphere's radius
 constexpr int kLastSecondFrames = 60;
+// The cloth's self-intersections are counted at the start, every this many frames (half a second
+// at 1/60 s) and after the last, outside the timed steps: one count costs one to several frames
+// of a large cloth, so counting every frame would multiply a benchmark's wall time.
+constexpr int kSelfIntersectionEvery = 30;
 
 // A method in a precision; single precision is xpbd's alone.
 struct Variant {
@@ -74,7 +79,8 @@ struct Row {
   int64_t particles = 0, frames = 0;
   double setup_ms = 0, ms_median = 0, ms_p10 = 0, ms_p90 = 0, rate = 0;
   double strain_last_second = 0, strain_last = 0, strain_p99 = 0, penetration = 0;
-  MemoryUse memory;  ///< after the run
+  int64_t self_intersections = 0;  ///< the most over the frames counted (kSelfIntersectionEvery)
+  MemoryUse memory;                ///< after the run
   bool on_sphere = true, quality = false;
   int tries = 1;  ///< runs made to find the substeps (searched methods)
 };
@@ -161,6 +167,9 @@ Row bench_one(const BenchOptions& o, const std::string& scene, int n, const Vari
   hooks.after_frame = [&](const Simulation& s) {
     if (s.frame() > o.frames - kLastSecondFrames)
       row.strain_last_second = std::max(row.strain_last_second, s.diagnostics().max_strain);
+    if (s.frame() % kSelfIntersectionEvery == 0 || s.frame() == o.frames)
+      row.self_intersections = std::max(row.self_intersections,
+                                        count_self_intersections(s.model().triangles, s.state().x));
   };
   const RunResult r = run_frames(*sim, o.frames, hooks);
   const Diagnostics d = sim->diagnostics();
@@ -256,9 +265,9 @@ Row bench_best(const BenchOptions& o, const std::string& scene, int n, const Var
 }
 
 void print_table(const std::vector<Row>& rows) {
-  std::printf("%-10s %5s %-11s %-6s %3s %8s %6s %5s %10s %9s %12s %6s %8s %8s %8s %8s %s\n",
+  std::printf("%-10s %5s %-11s %-6s %3s %8s %6s %5s %10s %9s %12s %6s %8s %8s %8s %8s %6s %s\n",
               "scene", "N", "method", "prec", "thr", "substeps", "sweeps", "lines", "ms/frame",
-              "p10-p90", "part·sub/s", "B/part", "strain1s", "strain", "p99", "penetr.",
+              "p10-p90", "part·sub/s", "B/part", "strain1s", "strain", "p99", "penetr.", "selfx",
               "quality");
   for (const Row& r : rows) {
     if (r.status.rfind("skipped", 0) == 0) {
@@ -270,11 +279,11 @@ void print_table(const std::vector<Row>& rows) {
     std::snprintf(spread, sizeof spread, "%.2f-%.2f", r.ms_p10, r.ms_p90);
     std::printf(
         "%-10s %5d %-11s %-6s %3d %8d %6d %5d %10.3f %9s %12.3g %6.0f %7.2f%% %7.2f%% %7.2f%% "
-        "%7.2f%% %s\n",
+        "%7.2f%% %6lld %s\n",
         r.scene.c_str(), r.n, r.method.c_str(), r.precision.c_str(), r.threads, r.substeps,
         r.stiff_sweeps, r.line_passes, r.ms_median, spread, r.rate,
         r.memory.per_particle(r.particles), 100 * r.strain_last_second, 100 * r.strain_last,
-        100 * r.strain_p99, 100 * r.penetration,
+        100 * r.strain_p99, 100 * r.penetration, static_cast<long long>(r.self_intersections),
         r.quality ? "yes" : (r.status == "ok" ? "no" : r.status.c_str()));
   }
 }
@@ -304,6 +313,7 @@ nlohmann::json to_json(const Row& r) {
           {"max_strain", figure(r.strain_last)},
           {"p99_strain", figure(r.strain_p99)},
           {"penetration_fraction_of_radius", figure(r.penetration)},
+          {"self_intersections_max", r.self_intersections},
           {"on_sphere", r.on_sphere},
           {"quality", r.quality},
           {"substep_tries", r.tries}};

@@ -16,6 +16,7 @@
 #include "app/runner.h"
 #include "app/terminal.h"
 #include "drape/error.h"
+#include "drape/self_intersections.h"
 #include "io/output_file.h"
 #include "io/scene_io.h"
 #include "io/shown_text.h"
@@ -122,12 +123,13 @@ int run(const RunOptions& o) {
         "%s: %lld frames (%.2f s simulated) in %.2f s, %.3f ms/frame (median), %d substeps/frame, "
         "method %s\n"
         "  %d particles, %zu springs; kinetic energy %.3g J, strain max %.2f%% mean %.2f%%, "
-        "penetration %.3g m, pin drift %.3g m\n",
+        "penetration %.3g m, pin drift %.3g m, self-intersections %lld\n",
         io::shown(sim->def().name).c_str(), static_cast<long long>(result.frames), sim->time(),
         result.wall_seconds, result.median_ms(), sim->substeps_per_frame(),
         method_text(*sim).c_str(), sim->model().size(), sim->model().springs.size(),
         d.kinetic_energy, 100.0 * d.max_strain, 100.0 * d.mean_strain, d.max_penetration,
-        d.pinned_drift);
+        d.pinned_drift,
+        static_cast<long long>(count_self_intersections(sim->model().triangles, sim->state().x)));
     if (exporter) {
       std::fprintf(out, "  exported %s", exporter->summary().c_str());
       if (replaced > 0)

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "drape/self_intersections.h"
+
 namespace drape::io {
 
 const char* to_string(RunStatus s) {
@@ -77,6 +79,8 @@ nlohmann::json stats_json(const Simulation& sim, const RunResult& run) {
   j["max_penetration"] = figure(d.max_penetration);
   j["pinned_drift"] = figure(d.pinned_drift);
   j["finite"] = d.finite;
+  // Not among the diagnostics, which are cheap enough for every frame: this one is not.
+  j["self_intersections"] = count_self_intersections(sim.model().triangles, sim.state().x);
   return j;
 }
 

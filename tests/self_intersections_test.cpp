@@ -1,0 +1,232 @@
+// The self-intersection count against a brute-force count written here on its own: every pair
+// of triangles, each edge against the other triangle by its plane crossing and barycentric
+// signs (not the orientation predicates the library uses).
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <random>
+#include <vector>
+
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
+#include "drape/self_intersections.h"
+#include "drape/simulation.h"
+#include "io/run_stats.h"
+
+namespace {
+
+using drape::Triangle;
+using drape::Vec3;
+
+struct Mesh {
+  std::vector<Vec3> x;
+  std::vector<Triangle> triangles;
+};
+
+// Appends a grid of (cols + 1) × (rows + 1) vertices at corner(i, j), two triangles per quad
+// split along the diagonal from (i, j) to (i + 1, j + 1).
+template <class Corner>
+void add_grid(Mesh& m, int cols, int rows, Corner corner) {
+  const int32_t first = static_cast<int32_t>(m.x.size());
+  for (int j = 0; j <= rows; ++j)
+    for (int i = 0; i <= cols; ++i) m.x.push_back(corner(i, j));
+  auto at = [&](int i, int j) { return first + j * (cols + 1) + i; };
+  for (int j = 0; j < rows; ++j)
+    for (int i = 0; i < cols; ++i) {
+      m.triangles.push_back({at(i, j), at(i + 1, j), at(i + 1, j + 1)});
+      m.triangles.push_back({at(i, j), at(i + 1, j + 1), at(i, j + 1)});
+    }
+}
+
+// Segment pq passes strictly through the inside of triangle abc: p and q strictly on either
+// side of its plane, and the point where pq meets the plane strictly inside all three edges.
+bool crosses(const Vec3& p, const Vec3& q, const Vec3& a, const Vec3& b, const Vec3& c) {
+  const Vec3 n = (b - a).cross(c - a);
+  const double dp = n.dot(p - a), dq = n.dot(q - a);
+  if (!(dp * dq < 0.0)) return false;
+  const Vec3 hit = p + dp / (dp - dq) * (q - p);
+  return n.dot((b - a).cross(hit - a)) > 0.0 && n.dot((c - b).cross(hit - b)) > 0.0 &&
+         n.dot((a - c).cross(hit - c)) > 0.0;
+}
+
+int64_t brute_force_count(const Mesh& m) {
+  int64_t count = 0;
+  for (size_t s = 0; s < m.triangles.size(); ++s)
+    for (size_t t = s + 1; t < m.triangles.size(); ++t) {
+      const Triangle &S = m.triangles[s], &T = m.triangles[t];
+      bool shared = false;
+      for (int32_t i : S)
+        for (int32_t j : T) shared = shared || i == j;
+      if (shared) continue;
+      bool hit = false;
+      for (int e = 0; e < 3 && !hit; ++e) {
+        hit = crosses(m.x[S[e]], m.x[S[(e + 1) % 3]], m.x[T[0]], m.x[T[1]], m.x[T[2]]) ||
+              crosses(m.x[T[e]], m.x[T[(e + 1) % 3]], m.x[S[0]], m.x[S[1]], m.x[S[2]]);
+      }
+      count += hit;
+    }
+  return count;
+}
+
+int64_t library_count(const Mesh& m) {
+  return drape::count_self_intersections(m.triangles, m.x);
+}
+
+// A unit square cloth of n × n quads, each vertex displaced by up to `amplitude` quad widths
+// along each axis at random.
+Mesh crumpled(int n, double amplitude, unsigned seed) {
+  Mesh m;
+  std::mt19937 random(seed);
+  std::uniform_real_distribution<double> offset(-amplitude / n, amplitude / n);
+  add_grid(m, n, n, [&](int i, int j) {
+    return Vec3(static_cast<double>(i) / n + offset(random),
+                static_cast<double>(j) / n + offset(random), offset(random));
+  });
+  return m;
+}
+
+TEST(SelfIntersections, FlatClothHasNone) {
+  Mesh m;
+  add_grid(m, 40, 30, [](int i, int j) { return Vec3(0.1 * i, 0.05 * j, 0.0); });
+  EXPECT_EQ(library_count(m), 0);
+  EXPECT_EQ(brute_force_count(m), 0);
+}
+
+TEST(SelfIntersections, ASimulationStartsWithNone) {
+  const drape::Simulation sim(drape::SceneDef{});
+  EXPECT_EQ(drape::count_self_intersections(sim.model().triangles, sim.state().x), 0);
+}
+
+// Grid A in the plane z = 0 (quads of 1 m), grid B in the plane x = c: they meet along the line
+// x = c, z = 0, where the triangles of A's column of quads around x = c and of B's row around
+// z = 0 each cover an interval of y. A pair crosses exactly when its intervals overlap.
+TEST(SelfIntersections, TwoCrossingGridsCrossAlongTheirLine) {
+  const int a_size = 8, b_cols = 4, b_rows = 5;
+  const double c = 3.3, y0 = 1.45, z0 = -2.6;
+  Mesh m;
+  add_grid(m, a_size, a_size, [](int i, int j) { return Vec3(i, j, 0.0); });
+  add_grid(m, b_cols, b_rows, [&](int i, int j) { return Vec3(c, y0 + i, z0 + j); });
+  // A's quad column 3: the diagonal meets x = c at y = j + f; the lower triangle covers
+  // [j, j + f], the upper [j + f, j + 1]. B's quad row 2: its diagonal meets z = 0 at
+  // y = y0 + i + g; its first triangle covers [y0 + i + g, y0 + i + 1], its second the rest.
+  const double f = c - 3.0, g = 0.0 - (z0 + 2.0);
+  struct Interval {
+    double lo, hi;
+  };
+  std::vector<Interval> a, b;
+  for (int j = 0; j < a_size; ++j) a.push_back({j + 0.0, j + f}), a.push_back({j + f, j + 1.0});
+  for (int i = 0; i < b_cols; ++i)
+    b.push_back({y0 + i + g, y0 + i + 1.0}), b.push_back({y0 + i, y0 + i + g});
+  int64_t expected = 0;
+  for (const Interval& s : a)
+    for (const Interval& t : b) expected += std::min(s.hi, t.hi) - std::max(s.lo, t.lo) > 1e-9;
+  // Over B's 4 m of the line, A's 8 interval ends and B's 7 inner ones cut it into 16 pieces,
+  // each the overlap of one pair.
+  EXPECT_EQ(expected, 16);
+  EXPECT_EQ(brute_force_count(m), expected);
+  EXPECT_EQ(library_count(m), expected);
+}
+
+TEST(SelfIntersections, CrumpledClothMatchesBruteForce) {
+  for (const double amplitude : {0.3, 0.8, 1.5, 3.0}) {
+    for (const unsigned seed : {1u, 2u, 3u}) {
+      const Mesh m = crumpled(24, amplitude, seed);
+      const int64_t expected = brute_force_count(m);
+      EXPECT_EQ(library_count(m), expected) << "amplitude " << amplitude << ", seed " << seed;
+      if (amplitude >= 1.5) {
+        EXPECT_GT(expected, 0) << "the test should crumple the cloth";
+      }
+    }
+  }
+}
+
+// A folded cloth: the same sheet twice, the second shifted through the first.
+TEST(SelfIntersections, CrumpledAndFoldedMatchBruteForceOnAMeshOfManyCells) {
+  Mesh m = crumpled(20, 1.0, 7);
+  const Mesh other = crumpled(20, 1.0, 8);
+  const int32_t first = static_cast<int32_t>(m.x.size());
+  for (const Vec3& x : other.x) m.x.push_back(Vec3(x.x() + 0.013, x.z(), x.y() - 0.5));
+  for (const Triangle& t : other.triangles)
+    m.triangles.push_back({t[0] + first, t[1] + first, t[2] + first});
+  const int64_t expected = brute_force_count(m);
+  EXPECT_GT(expected, 20);
+  EXPECT_EQ(library_count(m), expected);
+}
+
+TEST(SelfIntersections, PairsSharingAVertexAreNeverCounted) {
+  // B's edge from (0.3, 0.3, -1) to (0.3, 0.3, 1) passes through A's inside.
+  Mesh m;
+  m.x = {Vec3(0, 0, 0),      Vec3(1, 0, 0),     Vec3(0, 1, 0),
+         Vec3(0.3, 0.3, -1), Vec3(0.3, 0.3, 1), Vec3(0, 0, 0)};
+  m.triangles = {{0, 1, 2}, {0, 3, 4}};  // sharing vertex 0
+  EXPECT_EQ(library_count(m), 0);
+  m.triangles = {{0, 1, 2}, {5, 3, 4}};  // the same place, another vertex
+  EXPECT_EQ(library_count(m), 1);
+  EXPECT_EQ(brute_force_count(m), 1);
+}
+
+TEST(SelfIntersections, TouchingIsNotCrossing) {
+  Mesh m;
+  // A corner of B on A's inside, B standing on A; then an edge of B lying in A's plane across
+  // it; then B in A's plane, overlapping it.
+  m.x = {Vec3(0, 0, 0),     Vec3(1, 0, 0),     Vec3(0, 1, 0),
+         Vec3(0.2, 0.2, 0), Vec3(0.3, 0.2, 1), Vec3(0.2, 0.3, 1)};
+  m.triangles = {{0, 1, 2}, {3, 4, 5}};
+  EXPECT_EQ(library_count(m), 0);
+  m.x[4] = Vec3(0.6, -0.5, 0);
+  EXPECT_EQ(library_count(m), 0);
+  m.x[5] = Vec3(0.5, 0.5, 0);
+  EXPECT_EQ(library_count(m), 0);
+  m.x[5] = Vec3(0.5, 0.5, 1e-3);  // lifted off the plane: its edge 3-4 still lies in it
+  EXPECT_EQ(library_count(m), 0);
+  m.x[3] = Vec3(0.2, 0.2, -1e-3);  // now the edge 3-5 passes through
+  EXPECT_EQ(library_count(m), 1);
+  EXPECT_EQ(brute_force_count(m), 1);
+}
+
+TEST(SelfIntersections, NonFiniteTrianglesAreLeftOut) {
+  Mesh m = crumpled(16, 1.5, 4);
+  const int64_t before = library_count(m);
+  m.x[0] = Vec3(std::nan(""), 0, 0);
+  m.x[1] = Vec3(1e300, -1e300, 0);
+  const int64_t after = library_count(m);
+  EXPECT_GE(after, 0);
+  EXPECT_LE(after, before + 16);  // the huge triangles may cross some; nothing hangs or throws
+}
+
+TEST(SelfIntersections, SameCountOnOneAndTwoThreads) {
+#ifdef _OPENMP
+  const Mesh m = crumpled(96, 1.5, 11);
+  const int previous = omp_get_max_threads();
+  omp_set_num_threads(1);
+  const int64_t one = library_count(m);
+  omp_set_num_threads(2);
+  const int64_t two = library_count(m);
+  omp_set_num_threads(previous);
+  EXPECT_GT(one, 0);
+  EXPECT_EQ(one, two);
+#else
+  GTEST_SKIP() << "built without OpenMP";
+#endif
+}
+
+TEST(SelfIntersections, LargeCrumpledClothIsCounted) {
+  // 256 × 256 quads, 131,072 triangles: the broad phase keeps this far from the 8.6e9 pairs.
+  const Mesh m = crumpled(256, 1.5, 5);
+  std::printf("256x256 crumpled: %lld self-intersections\n",
+              static_cast<long long>(library_count(m)));
+}
+
+TEST(SelfIntersections, StatsCarryTheCount) {
+  const drape::Simulation sim(drape::SceneDef{});
+  const nlohmann::json stats = drape::io::stats_json(sim, drape::io::RunResult{});
+  ASSERT_TRUE(stats.contains("self_intersections"));
+  EXPECT_TRUE(stats["self_intersections"].is_number_integer());
+  EXPECT_EQ(stats["self_intersections"], 0);
+}
+
+}  // namespace
