@@ -55,10 +55,10 @@ TEST(AutoMethod, ItsToleranceIsCheckedAndTheKeysItChoosesAreRefused) {
   EXPECT_NE(substeps.find("solver.substeps"), std::string::npos) << substeps;
   EXPECT_NE(substeps.find("auto"), std::string::npos) << substeps;
   EXPECT_NE(substeps.find("solver.method"), std::string::npos) << substeps;
-  for (auto set : {+[](SolverDef& s) { s.precision = Precision::f32; },
-                   +[](SolverDef& s) { s.line_passes = 2; },
-                   +[](SolverDef& s) { s.stiff_sweeps = 2; },
-                   +[](SolverDef& s) { s.iterations = 2; }})
+  for (auto set :
+       {+[](SolverDef& s) { s.precision = Precision::f32; },
+        +[](SolverDef& s) { s.line_passes = 2; }, +[](SolverDef& s) { s.stiff_sweeps = 2; },
+        +[](SolverDef& s) { s.iterations = 2; }})
     EXPECT_NE(problem(set).find("auto"), std::string::npos) << problem(set);
   // A range error comes first: it is the problem whatever the method.
   EXPECT_NE(problem([](SolverDef& s) { s.substeps = -1; }).find("must be in"), std::string::npos);
@@ -74,7 +74,8 @@ class AutoOnShippedScene : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(AutoOnShippedScene, MeetsItsToleranceAtTheEnd) {
   const SceneDef def = shipped(GetParam());
-  if (def.solver.method != Method::automatic) GTEST_SKIP() << "uses " << to_string(def.solver.method);
+  if (def.solver.method != Method::automatic)
+    GTEST_SKIP() << "uses " << to_string(def.solver.method);
   Simulation sim(def);
   const int64_t frames = frame_count(def);
   for (int64_t f = 0; f < frames; ++f) ASSERT_TRUE(sim.step()) << sim.divergence();

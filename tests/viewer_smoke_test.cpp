@@ -268,6 +268,46 @@ TEST_F(ViewerSmoke, VideoFramesArePipedToFfmpeg) {
   EXPECT_FALSE(fs::exists(path("out"))) << "no PNG folder in the working folder without --out";
 }
 
+TEST_F(ViewerSmoke, WithoutEveryARenderDrawsTenPicturesASecondAndAGifFifteen) {
+  // 60 frames at 1/60 s: every 6th frame, 0 to 60, is 11 pictures, and the render says so.
+  const std::string out = path("pictures");
+  Result r = shell(std::string(DRAPE_EXE) + " render " + scene("hang") +
+                   " --frames 60 --size 64x48 --out " + out);
+  if (r.code == kNoGraphics) GTEST_SKIP() << "no EGL context: " << r.output;
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_NE(r.output.find("11 pictures of 60 frames"), std::string::npos) << r.output;
+  int pictures = 0;
+  for (const auto& entry : fs::directory_iterator(out)) pictures += entry.path().extension() == ".png";
+  EXPECT_EQ(pictures, 11);
+  EXPECT_TRUE(fs::exists(fs::path(out) / "frame_00006.png"));
+  // A GIF: every 4th frame (15 a second), a palette from its own frames, looping; through a
+  // stand-in ffmpeg that records its arguments.
+  const fs::path bin = dir_ / "bin";
+  fs::create_directories(bin);
+  {
+    std::ofstream fake(bin / "ffmpeg");
+    fake << "#!/bin/sh\n"
+            "for last in \"$@\"; do :; done\n"
+            "printf '%s\\n' \"$@\" > \"$last.args\"\n"
+            "wc -c > \"$last\"\n";
+  }
+  fs::permissions(bin / "ffmpeg", fs::perms::owner_all);
+  const std::string gif = path("clip.GIF");
+  r = shell("PATH=" + bin.string() + ":$PATH " + DRAPE_EXE + " render " + scene("hang") +
+            " --frames 60 --size 64x48 --quiet --video " + gif);
+  ASSERT_EQ(r.code, 0) << r.output;
+  std::ifstream bytes(gif);
+  long long count = 0;
+  bytes >> count;
+  EXPECT_EQ(count, 16LL * 64 * 48 * 4);  // frames 0, 4, ..., 60
+  std::ifstream args(gif + ".args");
+  const std::string text((std::istreambuf_iterator<char>(args)), std::istreambuf_iterator<char>());
+  EXPECT_NE(text.find("palettegen"), std::string::npos) << text;
+  EXPECT_NE(text.find("-loop"), std::string::npos) << text;
+  EXPECT_EQ(text.find("libx264"), std::string::npos) << text;
+  EXPECT_NE(text.find("\n15\n"), std::string::npos) << text;
+}
+
 TEST_F(ViewerSmoke, RenderInterruptedKeepsTheFramesSoFarAndExits130) {
   const std::string out = path("interrupted");
   const Result r = shell("bash -c '" + std::string(DRAPE_EXE) + " render " + scene("hang") +

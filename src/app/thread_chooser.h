@@ -21,11 +21,11 @@ class ThreadChooser {
   int threads() const { return current_; }
 
  private:
-  static constexpr int kTrial = 6;    ///< frames timed on each count
-  static constexpr int kHold = 300;   ///< frames on the faster one before timing again (5 s)
+  static constexpr int kTrial = 6;   ///< frames timed on each count
+  static constexpr int kHold = 300;  ///< frames on the faster one before timing again (5 s)
   bool choosing_ = false;
   int many_ = 1, current_ = 1;
-  int frame_ = 0;                     ///< frames into the present cycle of trials and hold
+  int frame_ = 0;  ///< frames into the present cycle of trials and hold
   double many_ms_ = 0.0, one_ms_ = 0.0;
 };
 
