@@ -31,7 +31,9 @@ constexpr int kNoGraphics = 4;  // drape's exit code when no display or context 
 
 using Result = drape::testing_support::CommandResult;
 
-Result shell(const std::string& command) { return drape::testing_support::run_shell(command); }
+Result shell(const std::string& command) {
+  return drape::testing_support::run_shell(command);
+}
 
 bool on_path(const std::string& program) {
   return shell("command -v " + program + " >/dev/null").code == 0;
@@ -123,6 +125,22 @@ class ViewerSmoke : public drape::testing_support::TempDirTest {
     // processes only (AddressSanitizer's other checks stay on); the leak checks of our own code
     // run in drape_render_tests. A value the caller set wins.
     setenv("LSAN_OPTIONS", "detect_leaks=0", 0);
+  }
+  /// A folder holding a stand-in ffmpeg, to put first on the PATH: it records its arguments in
+  /// OUTPUT.args and the count of bytes it was sent in OUTPUT, so the pipe is checked whether or
+  /// not the real one is installed.
+  std::string fake_ffmpeg() const {
+    const fs::path bin = dir_ / "bin";
+    fs::create_directories(bin);
+    {
+      std::ofstream fake(bin / "ffmpeg");
+      fake << "#!/bin/sh\n"
+              "for last in \"$@\"; do :; done\n"
+              "printf '%s\\n' \"$@\" > \"$last.args\"\n"
+              "wc -c > \"$last\"\n";
+    }
+    fs::permissions(bin / "ffmpeg", fs::perms::owner_all);
+    return bin.string();
   }
 };
 
@@ -237,20 +255,9 @@ TEST_F(ViewerSmoke, ScriptedDragHoldsThePickedParticleOnTheRay) {
 }
 
 TEST_F(ViewerSmoke, VideoFramesArePipedToFfmpeg) {
-  // A stand-in ffmpeg on the PATH records its arguments and the bytes it was sent, so the pipe
-  // is checked whether or not the real one is installed.
-  const fs::path bin = dir_ / "bin";
-  fs::create_directories(bin);
-  {
-    std::ofstream fake(bin / "ffmpeg");
-    fake << "#!/bin/sh\n"
-            "for last in \"$@\"; do :; done\n"
-            "printf '%s\\n' \"$@\" > \"$last.args\"\n"
-            "wc -c > \"$last\"\n";
-  }
-  fs::permissions(bin / "ffmpeg", fs::perms::owner_all);
+  const std::string bin = fake_ffmpeg();
   const std::string video = path("it's a clip.mp4");  // a quote and a space survive the shell
-  const Result r = shell("cd " + dir_.string() + " && PATH=" + bin.string() + ":$PATH " +
+  const Result r = shell("cd " + dir_.string() + " && PATH=" + bin + ":$PATH " +
                          DRAPE_EXE + " render " + scene("hang") +
                          " --frames 10 --every 5 --size 64x48 --quiet --video \"" + video + "\"");
   if (r.code == kNoGraphics) GTEST_SKIP() << "no EGL context: " << r.output;
@@ -280,20 +287,9 @@ TEST_F(ViewerSmoke, WithoutEveryARenderDrawsTenPicturesASecondAndAGifFifteen) {
   for (const auto& entry : fs::directory_iterator(out)) pictures += entry.path().extension() == ".png";
   EXPECT_EQ(pictures, 11);
   EXPECT_TRUE(fs::exists(fs::path(out) / "frame_00006.png"));
-  // A GIF: every 4th frame (15 a second), a palette from its own frames, looping; through a
-  // stand-in ffmpeg that records its arguments.
-  const fs::path bin = dir_ / "bin";
-  fs::create_directories(bin);
-  {
-    std::ofstream fake(bin / "ffmpeg");
-    fake << "#!/bin/sh\n"
-            "for last in \"$@\"; do :; done\n"
-            "printf '%s\\n' \"$@\" > \"$last.args\"\n"
-            "wc -c > \"$last\"\n";
-  }
-  fs::permissions(bin / "ffmpeg", fs::perms::owner_all);
+  // A GIF: every 4th frame (15 a second), a palette from its own frames, looping.
   const std::string gif = path("clip.GIF");
-  r = shell("PATH=" + bin.string() + ":$PATH " + DRAPE_EXE + " render " + scene("hang") +
+  r = shell("PATH=" + fake_ffmpeg() + ":$PATH " + DRAPE_EXE + " render " + scene("hang") +
             " --frames 60 --size 64x48 --quiet --video " + gif);
   ASSERT_EQ(r.code, 0) << r.output;
   std::ifstream bytes(gif);

@@ -106,9 +106,14 @@ int run(const RunOptions& o) {
       output_errors.push_back(e.what());
     }
   }
+  // Counting the self-intersections costs about a frame or more: once, for the stats and the
+  // summary both.
+  std::optional<int64_t> self_intersections;
   if (!o.stats.empty()) {
+    const nlohmann::json stats = stats_json(*sim, result);
+    self_intersections = stats["self_intersections"].get<int64_t>();
     try {
-      io::write_output(o.stats, json_text(stats_json(*sim, result)));
+      io::write_output(o.stats, json_text(stats));
     } catch (const io::OutputError& e) {
       output_errors.push_back(e.what());
     }
@@ -118,6 +123,8 @@ int run(const RunOptions& o) {
   FILE* out = o.stats == "-" ? stderr : stdout;
   const Diagnostics d = sim->diagnostics();
   if (!o.quiet) {
+    if (!self_intersections)
+      self_intersections = count_self_intersections(sim->model().triangles, sim->state().x);
     std::fprintf(
         out,
         "%s: %lld frames (%.2f s simulated) in %.2f s, %.3f ms/frame (median), %d substeps/frame, "
@@ -128,8 +135,7 @@ int run(const RunOptions& o) {
         result.wall_seconds, result.median_ms(), sim->substeps_per_frame(),
         method_text(*sim).c_str(), sim->model().size(), sim->model().springs.size(),
         d.kinetic_energy, 100.0 * d.max_strain, 100.0 * d.mean_strain, d.max_penetration,
-        d.pinned_drift,
-        static_cast<long long>(count_self_intersections(sim->model().triangles, sim->state().x)));
+        d.pinned_drift, static_cast<long long>(*self_intersections));
     if (exporter) {
       std::fprintf(out, "  exported %s", exporter->summary().c_str());
       if (replaced > 0)
