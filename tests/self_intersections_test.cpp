@@ -1,6 +1,5 @@
-// The self-intersection count against a brute-force count written here on its own: every pair
-// of triangles, each edge against the other triangle by its plane crossing and barycentric
-// signs (not the orientation predicates the library uses).
+// The self-intersection count against a brute-force count written for the tests on its own
+// (brute_force_crossings.h).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -13,6 +12,7 @@
 #include <omp.h>
 #endif
 
+#include "brute_force_crossings.h"
 #include "drape/self_intersections.h"
 #include "drape/simulation.h"
 #include "io/run_stats.h"
@@ -42,34 +42,8 @@ void add_grid(Mesh& m, int cols, int rows, Corner corner) {
     }
 }
 
-// Segment pq passes strictly through the inside of triangle abc: p and q strictly on either
-// side of its plane, and the point where pq meets the plane strictly inside all three edges.
-bool crosses(const Vec3& p, const Vec3& q, const Vec3& a, const Vec3& b, const Vec3& c) {
-  const Vec3 n = (b - a).cross(c - a);
-  const double dp = n.dot(p - a), dq = n.dot(q - a);
-  if (!(dp * dq < 0.0)) return false;
-  const Vec3 hit = p + dp / (dp - dq) * (q - p);
-  return n.dot((b - a).cross(hit - a)) > 0.0 && n.dot((c - b).cross(hit - b)) > 0.0 &&
-         n.dot((a - c).cross(hit - c)) > 0.0;
-}
-
 int64_t brute_force_count(const Mesh& m) {
-  int64_t count = 0;
-  for (size_t s = 0; s < m.triangles.size(); ++s)
-    for (size_t t = s + 1; t < m.triangles.size(); ++t) {
-      const Triangle &S = m.triangles[s], &T = m.triangles[t];
-      bool shared = false;
-      for (int32_t i : S)
-        for (int32_t j : T) shared = shared || i == j;
-      if (shared) continue;
-      bool hit = false;
-      for (int e = 0; e < 3 && !hit; ++e) {
-        hit = crosses(m.x[S[e]], m.x[S[(e + 1) % 3]], m.x[T[0]], m.x[T[1]], m.x[T[2]]) ||
-              crosses(m.x[T[e]], m.x[T[(e + 1) % 3]], m.x[S[0]], m.x[S[1]], m.x[S[2]]);
-      }
-      count += hit;
-    }
-  return count;
+  return drape::testing_support::brute_force_crossings(m.triangles, m.x);
 }
 
 int64_t library_count(const Mesh& m) {

@@ -61,6 +61,17 @@ struct LongRangeDef {
   double slack = 0.0;    ///< fraction of the rest distance allowed beyond it, in [0, 10]
 };
 
+/// Self-collision: the cloth kept from passing through itself. With it on, at the end of every
+/// frame no two triangles that share no vertex cross (count_self_intersections is 0), provided
+/// none did at the start.
+struct SelfCollisionDef {
+  bool enabled = false;  ///< off by default
+  /// m, the gap kept between layers of the cloth, in (0, half the mean edge length];
+  /// 0 = automatic: a quarter of the mean edge length, so it scales with the resolution
+  double thickness = 0.0;
+  double friction = 0.3;  ///< Coulomb coefficient between layers, >= 0
+};
+
 /// The cloth: a rectangular grid (the default), or any triangle mesh (`mesh`).
 struct ClothDef {
   // The grid generator's keys (an error beside a mesh, except at their defaults).
@@ -88,6 +99,8 @@ struct ClothDef {
   /// 2 m cloth of 32 × 32 particles.
   double perturbation = 0.00155;
   LongRangeDef long_range;  ///< `false`, `true` or {"slack": s} in scene files
+  /// `false`, `true` or {"thickness": m, "friction": μ} in scene files
+  SelfCollisionDef self_collision;
 };
 
 enum class WindModel : uint8_t {

@@ -19,6 +19,8 @@ namespace drape {
 
 class Solver;
 class LongRange;
+class SelfCollision;
+struct World;
 
 /// Figures that describe the state; cheap enough to take once per frame.
 struct Diagnostics {
@@ -45,6 +47,15 @@ struct AutoChoice {
   /// More effort stopped lowering the strain while it was above the tolerance: what is left is
   /// the springs' own stretch (soft springs, point pins without attachments), out of reach.
   bool out_of_reach = false;
+};
+
+/// What self-collision did in the last frame (cloth.self_collision).
+struct SelfCollisionReport {
+  int64_t contacts = 0;        ///< vertex–triangle and edge–edge pairs found close or crossed
+  int64_t crossings = 0;       ///< crossing pairs after the contact passes
+  int64_t zone_vertices = 0;   ///< vertices moved rigidly in impact zones
+  int64_t frozen_vertices = 0;  ///< vertices held at their start positions
+  int64_t left = 0;  ///< crossing pairs left at the end (0 unless kinematic particles caused them)
 };
 
 /// Heap memory the simulation holds, in bytes (vectors counted by capacity).
@@ -106,6 +117,8 @@ class Simulation {
   const std::vector<Collider>& colliders() const { return colliders_; }
   Diagnostics diagnostics() const;
   MemoryUse memory() const;
+  /// With cloth.self_collision on: what it did in the last frame; null when it is off.
+  const SelfCollisionReport* self_collision() const;
 
   /// Applies a changed definition. Forces, colliders, spring parameters, mass and solver
   /// settings take effect at once; returns false (and changes nothing) when the change needs a
@@ -125,6 +138,8 @@ class Simulation {
 
  private:
   void prepare_solver();
+  void prepare_self_collision();
+  void step_with_self_collision(World& world);
   void rebase_energy();
   double mechanical_energy() const;
 
@@ -134,6 +149,9 @@ class Simulation {
   std::vector<Collider> colliders_;
   std::unique_ptr<LongRange> attachments_;  ///< rebuilt when the pins change
   std::unique_ptr<Solver> solver_;
+  std::unique_ptr<SelfCollision> self_collision_;  ///< null unless cloth.self_collision is on
+  std::vector<Vec3> frame_start_;  ///< positions at the start of a collision step
+  double frame_motion_ = 0.0;      ///< m, the cloth's relative motion over the last frame
   std::vector<double> scratch_;
   double diagonal_ = 0.0;  ///< m, of the rest shape's bounding box (divergence tolerance)
   int64_t frame_ = 0;

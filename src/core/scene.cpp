@@ -179,6 +179,8 @@ void check(const SceneDef& def) {
   check_springs(c.bending, "cloth.springs.bending");
   range(c.perturbation, 0.0, 1.0, "cloth.perturbation");
   range(c.long_range.slack, 0.0, 10.0, "cloth.long_range.slack");
+  nonnegative(c.self_collision.thickness, "cloth.self_collision.thickness");
+  nonnegative(c.self_collision.friction, "cloth.self_collision.friction");
 
   const ForcesDef& f = def.forces;
   finite(f.gravity, "forces.gravity");

@@ -6,6 +6,7 @@
 #include <limits>
 #include <string>
 
+#include "collision/self_collision.h"
 #include "drape/error.h"
 #include "forces.h"
 #include "long_range.h"
@@ -50,7 +51,8 @@ void check_starts_outside(const std::vector<Collider>& colliders, double perturb
 
 }  // namespace
 
-Simulation::Simulation(const SceneDef& def) : def_(def), attachments_(std::make_unique<LongRange>()) {
+Simulation::Simulation(const SceneDef& def)
+    : def_(def), attachments_(std::make_unique<LongRange>()) {
   check(def_);
   model_ = build_model(def_.cloth);
   state_ = initial_state(def_.cloth, model_);
@@ -66,6 +68,7 @@ Simulation::Simulation(const SceneDef& def) : def_(def), attachments_(std::make_
   solver_ = make_solver(def_.solver, model_);
   scratch_.reserve(model_.size());
   attachments_->prepare(model_, state_, def_.cloth.long_range);
+  prepare_self_collision();
   prepare_solver();
   rebase_energy();
 }
@@ -74,8 +77,37 @@ Simulation::~Simulation() = default;
 Simulation::Simulation(Simulation&&) noexcept = default;
 Simulation& Simulation::operator=(Simulation&&) noexcept = default;
 
-int Simulation::substeps_per_frame() const { return solver_->substeps(); }
-const AutoChoice* Simulation::auto_choice() const { return solver_->auto_choice(); }
+void Simulation::prepare_self_collision() {
+  const SelfCollisionDef& sc = def_.cloth.self_collision;
+  if (!sc.enabled) {
+    self_collision_.reset();
+    return;
+  }
+  // Thicker than half an edge, the layers' gap would reach across the cloth's own triangles:
+  // neighbours in one flat layer would push each other apart.
+  const double limit = 0.5 * model_.mean_edge;
+  if (sc.thickness > limit) {
+    char problem[240];
+    std::snprintf(problem, sizeof problem,
+                  "is %.3g m, more than half the cloth's mean edge length (%.3g m) allows; give "
+                  "at most %.3g m, or 0 for the automatic quarter edge (%.3g m)",
+                  sc.thickness, model_.mean_edge, limit, 0.5 * limit);
+    throw InputError("cloth.self_collision.thickness", problem);
+  }
+  if (!self_collision_) self_collision_ = std::make_unique<SelfCollision>();
+  self_collision_->prepare(model_, self_collision_thickness(sc, model_), sc.friction);
+}
+
+const SelfCollisionReport* Simulation::self_collision() const {
+  return self_collision_ ? &self_collision_->report() : nullptr;
+}
+
+int Simulation::substeps_per_frame() const {
+  return solver_->substeps();
+}
+const AutoChoice* Simulation::auto_choice() const {
+  return solver_->auto_choice();
+}
 
 void Simulation::prepare_solver() {
   World world{model_, state_, def_.forces, colliders_, time(), *attachments_};
@@ -116,10 +148,33 @@ const char* divergence_hint(Method m) {
 
 }  // namespace
 
+void Simulation::step_with_self_collision(World& world) {
+  // The collision stage keeps layers apart when they move less than a few thicknesses relative
+  // to each other between two of its passes; a frame in which the cloth deformed faster (a
+  // cloth crumpling on landing) is split into parts, each solved and then collision-checked.
+  // The parts are chosen from the last frame's motion, so a resting pile costs one pass.
+  const double dt = def_.solver.dt;
+  // (fast's matrix is factorised for the whole frame: it takes one part.)
+  const int parts = solver_->steps_any_dt() ? self_collision_->parts_for(frame_motion_) : 1;
+  for (int part = 0; part < parts && !world.cut_short; ++part) {
+    frame_start_ = state_.x;
+    world.time = time() + dt * part / parts;
+    solver_->step_frame(world, dt / parts);
+    // Even a part cut short is checked: the next frame starts from it.
+    if (self_collision_->resolve(model_, frame_start_, colliders_, dt / parts, state_))
+      solver_->state_changed();
+    if (part == 0) frame_motion_ = self_collision_->relative_motion(frame_start_, state_.x) * parts;
+  }
+}
+
 bool Simulation::step() {
   if (diverged()) return false;
   World world{model_, state_, def_.forces, colliders_, time(), *attachments_, stop_};
-  solver_->step_frame(world, def_.solver.dt);
+  if (self_collision_) {
+    step_with_self_collision(world);
+  } else {
+    solver_->step_frame(world, def_.solver.dt);
+  }
   stopped_ = world.cut_short;
   if (stopped_) return true;  // part of a frame: not counted, and its energy is not watched
   ++frame_;
@@ -149,8 +204,8 @@ bool Simulation::step() {
         method();
   } else {
     if (def_.forces.wind.strength > 0.0)
-      external_work_ += def_.solver.dt * forces::wind_power(model_, state_, def_.forces.wind,
-                                                            time(), scratch_);
+      external_work_ +=
+          def_.solver.dt * forces::wind_power(model_, state_, def_.forces.wind, time(), scratch_);
     if (grabbed_ >= 0) rebase_energy();
     const double mass = def_.cloth.mass;
     const double tolerance = 0.5 * mass + mass * def_.forces.gravity.norm() * diagonal_;
@@ -176,8 +231,7 @@ bool Simulation::step() {
 }
 
 int64_t particle_count(const ClothDef& def) {
-  return def.mesh ? static_cast<int64_t>(def.mesh->positions.size())
-                  : int64_t{def.cols} * def.rows;
+  return def.mesh ? static_cast<int64_t>(def.mesh->positions.size()) : int64_t{def.cols} * def.rows;
 }
 
 int64_t estimated_memory(const SceneDef& def) {
@@ -188,10 +242,18 @@ int64_t estimated_memory(const SceneDef& def) {
   // (about 118 B per doubling).
   int64_t workspace = 0;
   switch (def.solver.method) {
-    case Method::symplectic: workspace = 64; break;
-    case Method::xpbd: workspace = def.solver.line_passes > 0 ? 384 : 192; break;
-    case Method::automatic: workspace = 384 + 24; break;  // xpbd's with line passes, its springs
-    case Method::implicit: workspace = 1024; break;
+    case Method::symplectic:
+      workspace = 64;
+      break;
+    case Method::xpbd:
+      workspace = def.solver.line_passes > 0 ? 384 : 192;
+      break;
+    case Method::automatic:
+      workspace = 384 + 24;
+      break;  // xpbd's with line passes, its springs
+    case Method::implicit:
+      workspace = 1024;
+      break;
     case Method::fast:
       workspace = std::max<int64_t>(1024, 128 * static_cast<int64_t>(std::log2(double(n) + 1)));
       break;
@@ -205,8 +267,8 @@ MemoryUse Simulation::memory() const {
   MemoryUse m;
   m.state = heap_bytes(state_);
   m.model = heap_bytes(model_);
-  m.workspace = solver_->workspace_bytes() + heap_bytes(scratch_, colliders_) +
-                attachments_->bytes();
+  m.workspace = solver_->workspace_bytes() + heap_bytes(scratch_, colliders_, frame_start_) +
+                attachments_->bytes() + (self_collision_ ? self_collision_->bytes() : 0);
   return m;
 }
 
@@ -278,7 +340,8 @@ bool Simulation::reconfigure(const SceneDef& def) {
   }
   // Masses: the grid's equal shares exactly, a mesh's by area (scaled to the new total).
   for (int32_t i = 0; i < model_.size(); ++i) {
-    const double m = model_.grid.present() ? b.mass / model_.size() : model_.mass[i] * (b.mass / a.mass);
+    const double m =
+        model_.grid.present() ? b.mass / model_.size() : model_.mass[i] * (b.mass / a.mass);
     if (i == grabbed_) grabbed_inv_mass_ = 1.0 / m;
     model_.mass[i] = m;
     if (state_.inv_mass[i] != 0.0) state_.inv_mass[i] = 1.0 / m;
@@ -289,6 +352,7 @@ bool Simulation::reconfigure(const SceneDef& def) {
   if (a.long_range.enabled != b.long_range.enabled || a.long_range.slack != b.long_range.slack)
     attachments_->prepare(model_, state_, def_.cloth.long_range);
   try {
+    prepare_self_collision();
     prepare_solver();
   } catch (const InputError&) {
     reconfigure(old);

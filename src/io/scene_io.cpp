@@ -389,6 +389,22 @@ SceneDef parse_scene(const json& j, const std::string& source, const std::string
           fail("cloth.long_range", "expected false, true or {\"slack\": s}, got " + type_name(*v));
         }
       }
+      if (const json* v = r.find("self_collision")) {
+        // false, true, or {"thickness": m, "friction": μ}.
+        if (v->is_boolean()) {
+          c.self_collision.enabled = v->get<bool>();
+        } else if (v->is_object()) {
+          Reader sc(*v, "cloth.self_collision");
+          c.self_collision.enabled = true;
+          sc.number("thickness", c.self_collision.thickness);
+          sc.number("friction", c.self_collision.friction);
+          sc.finish();
+        } else {
+          fail("cloth.self_collision",
+               "expected false, true or {\"thickness\": m, \"friction\": mu}, got " +
+                   type_name(*v));
+        }
+      }
       r.finish();
     }
     if (const json* fj = top.find("forces")) {
@@ -546,7 +562,11 @@ json to_json(const SceneDef& d) {
                {"shear", springs(c.shear)},
                {"bending", springs(c.bending)}}},
              {"perturbation", c.perturbation},
-             {"long_range", c.long_range.enabled ? json{{"slack", c.long_range.slack}} : json(false)}};
+             {"long_range", c.long_range.enabled ? json{{"slack", c.long_range.slack}} : json(false)},
+             {"self_collision", c.self_collision.enabled
+                                    ? json{{"thickness", c.self_collision.thickness},
+                                           {"friction", c.self_collision.friction}}
+                                    : json(false)}};
   if (c.mesh) {
     cloth["mesh"] = c.mesh_file;
     cloth["transform"] = {{"translate", v3(c.transform.translate)},

@@ -2,11 +2,11 @@
 
 #include <algorithm>
 #include <array>
-#include <bit>
 #include <cmath>
 #include <limits>
 #include <utility>
 
+#include "crossings.h"
 #include "parallel.h"
 
 namespace drape {
@@ -80,128 +80,64 @@ bool apart(const Vec3* s, const Vec3* t) {
          orientation(s[0], s[1], s[2], t[2]) == side;
 }
 
-struct Box {
-  Vec3 lo, hi;
-};
-
-bool overlap(const Box& a, const Box& b) {
-  return (a.lo.array() <= b.hi.array()).all() && (b.lo.array() <= a.hi.array()).all();
-}
-
-using Cell = std::array<uint32_t, 3>;
-
-// Bits of an entry that hold the cell, above the triangle's 32: the cell's three coordinates
-// packed, so the entries sort as plain integers.
-constexpr int kCellKeyBits = 32;
-// Cell entries per triangle at most, on average: a few huge triangles (a cloth torn apart by a
-// diverging solver) widen the cells instead of filling memory.
-constexpr int64_t kMaxEntriesPerTriangle = 16;
-
-// The uniform grid: cell (i, j, k) covers origin + cell·[i, i+1) × [j, j+1) × [k, k+1).
-struct Grid {
-  Vec3 origin;
-  double cell = 1.0;
-  std::array<int, 3> bits{};  ///< of each coordinate in a key
-
-  uint32_t coordinate(double v, int axis) const {
-    const double c = std::floor((v - origin[axis]) / cell);
-    return static_cast<uint32_t>(std::clamp(c, 0.0, 4294967295.0));
-  }
-  Cell coordinates(const Vec3& p) const {
-    return {coordinate(p.x(), 0), coordinate(p.y(), 1), coordinate(p.z(), 2)};
-  }
-  uint64_t key(uint32_t i, uint32_t j, uint32_t k) const {
-    return (((uint64_t{i} << bits[1]) | j) << bits[2]) | k;
-  }
-};
-
 }  // namespace
 
-int64_t count_self_intersections(const std::vector<Triangle>& triangles,
-                                 const std::vector<Vec3>& positions) {
+void CrossingFinder::find(const std::vector<Triangle>& triangles,
+                          const std::vector<Vec3>& positions, std::vector<TrianglePair>& out) {
+  out.clear();
   // Boxes of the triangles whose corners are all finite.
-  std::vector<int32_t> kept;
-  std::vector<Box> boxes(triangles.size());
-  constexpr double kInfinity = std::numeric_limits<double>::infinity();
-  Box all{Vec3::Constant(kInfinity), Vec3::Constant(-kInfinity)};
-  double extent_sum = 0.0;
+  kept_.clear();
+  boxes_.resize(triangles.size());
   for (size_t t = 0; t < triangles.size(); ++t) {
     const Vec3 &a = positions[triangles[t][0]], &b = positions[triangles[t][1]],
                &c = positions[triangles[t][2]];
     if (!a.allFinite() || !b.allFinite() || !c.allFinite()) continue;
-    boxes[t] = {a.cwiseMin(b).cwiseMin(c), a.cwiseMax(b).cwiseMax(c)};
-    all.lo = all.lo.cwiseMin(boxes[t].lo);
-    all.hi = all.hi.cwiseMax(boxes[t].hi);
-    extent_sum += (boxes[t].hi - boxes[t].lo).maxCoeff();
-    kept.push_back(static_cast<int32_t>(t));
+    boxes_[t] = {a.cwiseMin(b).cwiseMin(c), a.cwiseMax(b).cwiseMax(c)};
+    kept_.push_back(static_cast<int32_t>(t));
   }
-  const int64_t n = static_cast<int64_t>(kept.size());
-  const double span = n > 0 ? (all.hi - all.lo).maxCoeff() : 0.0;
-  // Nothing can cross where every corner is at one point (or there is no pair).
-  if (n < 2 || !(span > 0.0) || !std::isfinite(span)) return 0;
+  if (kept_.size() < 2) return;
+  grid_.build(boxes_, kept_);
 
-  // Cells as wide as a mean triangle, so a typical triangle enters at most eight; widened
-  // while the cells' coordinates would not fit a key or the entries would be too many.
-  Grid grid{all.lo, std::max(extent_sum / static_cast<double>(n), span * 0x1p-10)};
-  std::vector<Cell> cell_lo(triangles.size()), cell_hi(triangles.size());
-  int64_t entries = 0;
-  for (;;) {
-    const Cell last = grid.coordinates(all.hi);
-    for (int axis = 0; axis < 3; ++axis) grid.bits[axis] = std::bit_width(last[axis]);
-    entries = 0;
-    for (int32_t t : kept) {
-      cell_lo[t] = grid.coordinates(boxes[t].lo);
-      cell_hi[t] = grid.coordinates(boxes[t].hi);
-      entries += int64_t{cell_hi[t][0] - cell_lo[t][0] + 1} * (cell_hi[t][1] - cell_lo[t][1] + 1) *
-                 (cell_hi[t][2] - cell_lo[t][2] + 1);
-    }
-    if (grid.bits[0] + grid.bits[1] + grid.bits[2] <= kCellKeyBits &&
-        entries <= kMaxEntriesPerTriangle * n)
-      break;
-    grid.cell *= 2.0;
-  }
-
-  // Every entry, cell key above triangle, sorted: by cell, then triangle, whatever the threads.
-  std::vector<uint64_t> cell_triangles;
-  cell_triangles.reserve(static_cast<size_t>(entries));
-  for (int32_t t : kept)
-    for (uint32_t i = cell_lo[t][0]; i <= cell_hi[t][0]; ++i)
-      for (uint32_t j = cell_lo[t][1]; j <= cell_hi[t][1]; ++j)
-        for (uint32_t k = cell_lo[t][2]; k <= cell_hi[t][2]; ++k)
-          cell_triangles.push_back(grid.key(i, j, k) << 32 | static_cast<uint32_t>(t));
-  std::sort(cell_triangles.begin(), cell_triangles.end());
-  std::vector<int64_t> cell_begin;
-  for (size_t e = 0; e < cell_triangles.size(); ++e)
-    if (e == 0 || cell_triangles[e] >> 32 != cell_triangles[e - 1] >> 32)
-      cell_begin.push_back(static_cast<int64_t>(e));
-  cell_begin.push_back(static_cast<int64_t>(cell_triangles.size()));
-
-  // Each pair in each cell they share; a pair is tested only in the cell holding the low
-  // corner of the overlap of their boxes (one of the cells both entered), so it counts once.
-  const int64_t cells = static_cast<int64_t>(cell_begin.size()) - 1;
-  int64_t count = 0;  // an integer sum: the same in any order, so for any thread count
-#pragma omp parallel for schedule(dynamic, 64) reduction(+ : count) if (worth_threads(entries))
-  for (int64_t cell = 0; cell < cells; ++cell) {
-    const uint64_t key = cell_triangles[cell_begin[cell]] >> 32;
-    for (int64_t e = cell_begin[cell]; e < cell_begin[cell + 1]; ++e) {
-      const int32_t s = static_cast<int32_t>(cell_triangles[e] & 0xffffffffu);
-      for (int64_t f = e + 1; f < cell_begin[cell + 1]; ++f) {
-        const int32_t t = static_cast<int32_t>(cell_triangles[f] & 0xffffffffu);
-        if (!overlap(boxes[s], boxes[t]) || share_a_vertex(triangles[s], triangles[t])) continue;
-        // The low corner's cell: floor is monotonic, so it is the larger low cell of the two.
-        const Cell &a = cell_lo[s], &b = cell_lo[t];
-        if (grid.key(std::max(a[0], b[0]), std::max(a[1], b[1]), std::max(a[2], b[2])) != key)
-          continue;
-        const Vec3 corners_s[3] = {positions[triangles[s][0]], positions[triangles[s][1]],
-                                   positions[triangles[s][2]]};
-        const Vec3 corners_t[3] = {positions[triangles[t][0]], positions[triangles[t][1]],
-                                   positions[triangles[t][2]]};
-        if (apart(corners_s, corners_t) || apart(corners_t, corners_s)) continue;
-        if (triangles_cross(corners_s, corners_t)) ++count;
+  // Each pair in each cell they share, tested only in the one cell where the grid reports it.
+  // Found per cell in parallel, kept in cell order: the same list for any thread count.
+  const int64_t cells = grid_.cells();
+  const bool threads = worth_threads(grid_.entries());
+#pragma omp parallel if (threads)
+  {
+    std::vector<TrianglePair> mine;
+#pragma omp for schedule(static) nowait
+    for (int64_t cell = 0; cell < cells; ++cell) {
+      for (int64_t e = grid_.cell_begin(cell); e < grid_.cell_begin(cell + 1); ++e) {
+        const int32_t s = grid_.entry(e);
+        for (int64_t f = e + 1; f < grid_.cell_begin(cell + 1); ++f) {
+          const int32_t t = grid_.entry(f);
+          if (!overlap(boxes_[s], boxes_[t]) || share_a_vertex(triangles[s], triangles[t]) ||
+              !grid_.reports_pair_in(cell, s, t))
+            continue;
+          const Vec3 corners_s[3] = {positions[triangles[s][0]], positions[triangles[s][1]],
+                                     positions[triangles[s][2]]};
+          const Vec3 corners_t[3] = {positions[triangles[t][0]], positions[triangles[t][1]],
+                                     positions[triangles[t][2]]};
+          if (apart(corners_s, corners_t) || apart(corners_t, corners_s)) continue;
+          if (triangles_cross(corners_s, corners_t))
+            mine.push_back({std::min(s, t), std::max(s, t)});
+        }
       }
     }
+#pragma omp critical
+    out.insert(out.end(), mine.begin(), mine.end());
   }
-  return count;
+  std::sort(out.begin(), out.end(), [](const TrianglePair& a, const TrianglePair& b) {
+    return a.s != b.s ? a.s < b.s : a.t < b.t;
+  });
+}
+
+int64_t count_self_intersections(const std::vector<Triangle>& triangles,
+                                 const std::vector<Vec3>& positions) {
+  CrossingFinder finder;
+  std::vector<TrianglePair> pairs;
+  finder.find(triangles, positions, pairs);
+  return static_cast<int64_t>(pairs.size());
 }
 
 }  // namespace drape

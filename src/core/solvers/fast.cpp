@@ -115,6 +115,8 @@ class Fast final : public Solver {
     X_.setZero(free, 3);
   }
 
+  bool steps_any_dt() const override { return false; }
+
   void step_frame(World& w, double dt) override {
     (void)dt;  // h_ was fixed in prepare(), with the factorisation (dt never changes between)
     ClothState& s = w.state;

@@ -58,6 +58,10 @@ class Solver {
   /// of convergence (their leftover stretch is solver error), so the divergence watch leaves
   /// spring energy out of its budget for them and watches kinetic energy.
   virtual bool stretch_is_energy() const { return false; }
+  /// Whether step_frame may be given a dt other than the one prepare() saw (a part of a frame,
+  /// for self-collision's collision steps). False for a method that factorised its matrix
+  /// for one step.
+  virtual bool steps_any_dt() const { return true; }
   /// What the auto method chose and how often it changed it; null for the other methods.
   virtual const AutoChoice* auto_choice() const { return nullptr; }
 };

@@ -1,0 +1,473 @@
+#include "self_collision.h"
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+#include "closest_points.h"
+#include "parallel.h"
+
+namespace drape {
+
+namespace {
+
+// Gauss–Seidel passes over the contacts per frame: enough for a pile's few layers to settle at
+// the thickness; what they leave crossing, the fail-safe removes.
+constexpr int kContactPasses = 4;
+// Pairs this many thicknesses apart at the end of the frame are kept as contacts, so a pass
+// that moves a neighbour closer still finds them.
+constexpr double kReach = 2.0;
+// How far outside a triangle (in barycentric terms) a vertex still counts as over its face:
+// a vertex over a corner or an edge is then over every triangle there.
+constexpr double kFaceMargin = 0.05;
+// Particles this close to a collider (in thicknesses) rest on it.
+constexpr double kGrounded = 0.1;
+// The least share of a pair's weight its free (ungrounded) corners must carry for the pair to
+// push off the ground's side alone.
+constexpr double kLeastShare = 0.25;
+// Edges at a smaller angle than this (its sine) are parallel for edge–edge contacts.
+constexpr double kLeastSine = 0.1;
+// Pairs this close (in thicknesses) at the end of the frame count as touching.
+constexpr double kTouching = 1.01;
+// Thicknesses layers may move relative to each other between two collision steps: further,
+// and one layer passes another before a step sees them close (measured on a crumpling pile:
+// 3 keeps its strain near the solver's own, 10 and more lets layers tangle).
+constexpr double kMotionPerPart = 0.5;
+// Rounds of rigid impact zones before the last resort (zones held where they started).
+constexpr int kRigidRounds = 3;
+// Rounds in all: each freezing round freezes at least one more vertex, so this bound is never
+// reached on a cloth whose crossings the fail-safe can remove.
+constexpr int kMaxRounds = 1000;
+
+double sign_or(double value, double otherwise) {
+  return value > 0.0 ? 1.0 : value < 0.0 ? -1.0 : otherwise;
+}
+
+bool finite_all(const Vec3& a, const Vec3& b) {
+  return a.allFinite() && b.allFinite();
+}
+
+// The swept box of points over the frame, widened by `margin`.
+template <typename... Points>
+Box swept_box(double margin, const Vec3& first, const Points&... rest) {
+  Box box{first, first};
+  ((box.lo = box.lo.cwiseMin(rest), box.hi = box.hi.cwiseMax(rest)), ...);
+  box.lo.array() -= margin;
+  box.hi.array() += margin;
+  return box;
+}
+
+// Which side of triangle tri's plane vertex p was on at the start of the frame (the sign of
+// the result), or 0 when it was not over the triangle's face within `reach` of it then. A
+// vertex beside the face may come over it from either side without passing through it; one
+// far from it may reach the other side by a path no side test can follow (the fail-safe sees
+// what it crosses).
+double start_side(int32_t p, const Triangle& tri, const std::vector<Vec3>& start, double reach) {
+  const Vec3 &a = start[tri[0]], &b = start[tri[1]], &c = start[tri[2]];
+  if (!over_face(start[p], a, b, c, kFaceMargin).interior) return 0.0;
+  const Vec3 normal = (b - a).cross(c - a);
+  const double side = normal.dot(start[p] - a);
+  return std::abs(side) < reach * normal.norm() ? side : 0.0;
+}
+
+// The offset between two edges' nearest points at the start of the frame when both lay inside
+// their edges within `reach` of each other then, else zero: the direction two edges that cross
+// during the frame reverse.
+Vec3 start_offset(const std::array<int32_t, 2>& e, const std::array<int32_t, 2>& f,
+                  const std::vector<Vec3>& start, double reach) {
+  const Vec3 &p0 = start[e[0]], &p1 = start[e[1]], &q0 = start[f[0]], &q1 = start[f[1]];
+  const SegmentPoints sp = closest_between_segments(p0, p1, q0, q1);
+  if (!sp.interior) return Vec3::Zero();
+  const Vec3 d = (1 - sp.s) * p0 + sp.s * p1 - (1 - sp.t) * q0 - sp.t * q1;
+  return d.squaredNorm() < reach * reach ? d : Vec3::Zero();
+}
+
+}  // namespace
+
+double self_collision_thickness(const SelfCollisionDef& def, const ClothModel& model) {
+  return def.thickness > 0.0 ? def.thickness : 0.25 * model.mean_edge;
+}
+
+void SelfCollision::prepare(const ClothModel& model, double thickness, double friction) {
+  thickness_ = thickness;
+  friction_ = friction;
+  edges_.clear();
+  edges_.reserve(model.triangles.size() * 3);
+  for (const Triangle& t : model.triangles)
+    for (int k = 0; k < 3; ++k) {
+      const int32_t i = t[k], j = t[(k + 1) % 3];
+      edges_.push_back({std::min(i, j), std::max(i, j)});
+    }
+  std::sort(edges_.begin(), edges_.end());
+  edges_.erase(std::unique(edges_.begin(), edges_.end()), edges_.end());
+  zone_.resize(model.size());
+  std::iota(zone_.begin(), zone_.end(), 0);
+  zone_state_.assign(model.size(), 0);
+  zoned_.clear();
+}
+
+int SelfCollision::parts_for(double motion) const {
+  const double parts = std::ceil(motion / (kMotionPerPart * thickness_));
+  return parts >= kMaxParts ? kMaxParts : parts > 1.0 ? static_cast<int>(parts) : 1;
+}
+
+double SelfCollision::relative_motion(const std::vector<Vec3>& start, const std::vector<Vec3>& x) {
+  if (x.empty()) return 0.0;
+  Vec3 mean = Vec3::Zero();
+  for (size_t i = 0; i < x.size(); ++i) mean += x[i] - start[i];
+  mean /= static_cast<double>(x.size());
+  double largest = 0.0;
+  for (size_t i = 0; i < x.size(); ++i)
+    largest = std::max(largest, (x[i] - start[i] - mean).squaredNorm());
+  return std::sqrt(largest);
+}
+
+int64_t SelfCollision::bytes() const {
+  return heap_bytes(edges_, triangle_boxes_, edge_boxes_, kept_triangles_, kept_edges_, contacts_,
+                    solved_, contacted_, mobility_, crossing_, zone_, zone_state_, zoned_) +
+         triangle_grid_.bytes() + edge_grid_.bytes();
+}
+
+void SelfCollision::find_contacts(const ClothModel& model, const std::vector<Vec3>& start,
+                                  const std::vector<Vec3>& x) {
+  const double h = thickness_, reach = kReach * h;
+  const std::vector<Triangle>& triangles = model.triangles;
+  // Swept boxes: a triangle's widened by the reach, so a vertex's own swept box meets it when
+  // the two come within reach; an edge's by half, so two edges' boxes meet within it.
+  kept_triangles_.clear();
+  triangle_boxes_.resize(triangles.size());
+  for (size_t t = 0; t < triangles.size(); ++t) {
+    const Triangle& tri = triangles[t];
+    if (!finite_all(x[tri[0]], start[tri[0]]) || !finite_all(x[tri[1]], start[tri[1]]) ||
+        !finite_all(x[tri[2]], start[tri[2]]))
+      continue;
+    triangle_boxes_[t] = swept_box(reach, x[tri[0]], x[tri[1]], x[tri[2]], start[tri[0]],
+                                   start[tri[1]], start[tri[2]]);
+    kept_triangles_.push_back(static_cast<int32_t>(t));
+  }
+  kept_edges_.clear();
+  edge_boxes_.resize(edges_.size());
+  for (size_t e = 0; e < edges_.size(); ++e) {
+    const auto [i, j] = edges_[e];
+    if (!finite_all(x[i], start[i]) || !finite_all(x[j], start[j])) continue;
+    edge_boxes_[e] = swept_box(0.5 * reach, x[i], x[j], start[i], start[j]);
+    kept_edges_.push_back(static_cast<int32_t>(e));
+  }
+  triangle_grid_.build(triangle_boxes_, kept_triangles_);
+  edge_grid_.build(edge_boxes_, kept_edges_);
+
+  // A vertex and a triangle are a contact when within reach at the end of the frame, or when
+  // the vertex changed sides of the triangle's plane while over its face.
+  auto vertex_triangle = [&](int32_t p, int32_t t) {
+    const Triangle& tri = triangles[t];
+    if (tri[0] == p || tri[1] == p || tri[2] == p) return false;
+    const Vec3 &a = x[tri[0]], &b = x[tri[1]], &c = x[tri[2]];
+    const TrianglePoint q = closest_on_triangle(x[p], a, b, c);
+    const Vec3 d = x[p] - (q.wa * a + q.wb * b + q.wc * c);
+    if (d.squaredNorm() < reach * reach) return true;
+    if (!over_face(x[p], a, b, c, kFaceMargin).interior) return false;
+    const double side0 = start_side(p, tri, start, reach);
+    const double side1 = (b - a).cross(c - a).dot(x[p] - a);
+    return side0 * side1 < 0.0;
+  };
+  // Two edges likewise: within reach, or their nearest points' offset reversed.
+  auto edge_edge = [&](int32_t e, int32_t f) {
+    const auto [i, j] = edges_[e];
+    const auto [k, l] = edges_[f];
+    if (i == k || i == l || j == k || j == l) return false;
+    const SegmentPoints sp = closest_between_segments(x[i], x[j], x[k], x[l]);
+    const Vec3 d = (1 - sp.s) * x[i] + sp.s * x[j] - (1 - sp.t) * x[k] - sp.t * x[l];
+    if (d.squaredNorm() < reach * reach) return true;
+    return sp.interior && d.dot(start_offset(edges_[e], edges_[f], start, reach)) < 0.0;
+  };
+
+  contacts_.clear();
+  const int32_t n = static_cast<int32_t>(x.size());
+  const int32_t edges = static_cast<int32_t>(edges_.size());
+#pragma omp parallel if (worth_threads(n))
+  {
+    std::vector<Contact> mine;
+#pragma omp for schedule(dynamic, 256) nowait
+    for (int32_t p = 0; p < n; ++p) {
+      if (!finite_all(x[p], start[p])) continue;
+      const Box box = swept_box(0.0, x[p], start[p]);
+      triangle_grid_.query(box, triangle_boxes_, [&](int32_t t) {
+        if (vertex_triangle(p, t)) mine.push_back({p, t, 0});
+      });
+    }
+#pragma omp for schedule(dynamic, 256) nowait
+    for (int32_t e = 0; e < edges; ++e) {
+      if (!finite_all(x[edges_[e][0]], x[edges_[e][1]]) ||
+          !finite_all(start[edges_[e][0]], start[edges_[e][1]]))
+        continue;
+      edge_grid_.query(edge_boxes_[e], edge_boxes_, [&](int32_t f) {
+        if (f > e && edge_edge(e, f)) mine.push_back({e, f, 1});
+      });
+    }
+#pragma omp critical
+    contacts_.insert(contacts_.end(), mine.begin(), mine.end());
+  }
+  // The order the threads found them in varies; the order they are resolved in must not.
+  std::sort(contacts_.begin(), contacts_.end(), [](const Contact& u, const Contact& w) {
+    return u.kind != w.kind ? u.kind < w.kind : u.a != w.a ? u.a < w.a : u.b < w.b;
+  });
+}
+
+SelfCollision::Stencil SelfCollision::stencil(const Contact& c, const ClothModel& model,
+                                              const std::vector<Vec3>& start,
+                                              const std::vector<Vec3>& x) const {
+  Stencil st;
+  int32_t* index = st.index;
+  double* coef = st.coef;
+  Vec3& dir = st.dir;
+  double& separation = st.separation;
+  if (c.kind == 0) {
+    const Triangle& tri = model.triangles[c.b];
+    index[0] = c.a, index[1] = tri[0], index[2] = tri[1], index[3] = tri[2];
+    const Vec3 &a = x[tri[0]], &b = x[tri[1]], &cc = x[tri[2]];
+    const TrianglePoint q = over_face(x[c.a], a, b, cc, kFaceMargin);
+    coef[0] = 1.0, coef[1] = -q.wa, coef[2] = -q.wb, coef[3] = -q.wc;
+    // Pushed along the triangle's normal only, so contacts never squeeze the cloth in its own
+    // plane; a vertex beside the face is left to the edge–edge contacts of its edges.
+    if (!q.interior) return st;
+    const Vec3 normal = (b - a).cross(cc - a);
+    const double length = normal.norm();
+    if (!(length > 0.0)) return st;
+    const Vec3 d = x[c.a] - (q.wa * a + q.wb * b + q.wc * cc);
+    // Kept on the side of the plane it started the frame on (when it was close then).
+    const double side = start_side(c.a, tri, start, kReach * thickness_);
+    dir = sign_or(side, sign_or(normal.dot(d), 1.0)) * normal / length;
+    separation = dir.dot(d);
+  } else {
+    const auto [i, j] = edges_[c.a];
+    const auto [k, l] = edges_[c.b];
+    index[0] = i, index[1] = j, index[2] = k, index[3] = l;
+    const SegmentPoints sp = closest_between_segments(x[i], x[j], x[k], x[l]);
+    if (!sp.interior) return st;  // a corner: the vertex–triangle contacts' business
+    // Pushed along the normal of both edges (Bridson et al. 2002): the offset between the
+    // nearest points turns wildly as two edges nearly touch. Nearly parallel edges have no
+    // such normal; the vertex–triangle contacts of their ends hold them apart.
+    const Vec3 e = x[j] - x[i], f = x[l] - x[k];
+    const Vec3 normal = e.cross(f);
+    const double length = normal.norm();
+    if (!(length > kLeastSine * e.norm() * f.norm())) return st;
+    coef[0] = 1 - sp.s, coef[1] = sp.s, coef[2] = -(1 - sp.t), coef[3] = -sp.t;
+    const Vec3 d = coef[0] * x[i] + coef[1] * x[j] + coef[2] * x[k] + coef[3] * x[l];
+    // Toward the side they started the frame on (when close then).
+    const Vec3 d0 = start_offset(edges_[c.a], edges_[c.b], start, kReach * thickness_);
+    dir = sign_or(normal.dot(d0), sign_or(normal.dot(d), 1.0)) * normal / length;
+    separation = dir.dot(d);
+  }
+  st.valid = true;
+  return st;
+}
+
+double SelfCollision::mobilities(const Stencil& st, const ClothState& state,
+                                 double mobility[4]) const {
+  // A pair whose grounded corners leave it only a small share of its weight would throw that
+  // share far (a corner of weight 0.1 moves ten times the depth): it moves as if unsupported.
+  double weight = 0.0, free_weight = 0.0;
+  for (int k = 0; k < 4; ++k) {
+    const double c2 = st.coef[k] * st.coef[k];
+    weight += c2 * mobility_[st.index[k]];
+    free_weight += c2 * state.inv_mass[st.index[k]];
+  }
+  const bool grounded = weight >= kLeastShare * free_weight;
+  for (int k = 0; k < 4; ++k)
+    mobility[k] = grounded ? mobility_[st.index[k]] : state.inv_mass[st.index[k]];
+  return grounded ? weight : free_weight;
+}
+
+void SelfCollision::push_apart(const Contact& c, const ClothModel& model,
+                               const std::vector<Vec3>& start, ClothState& state) const {
+  std::vector<Vec3>& x = state.x;
+  const Stencil st = stencil(c, model, start, x);
+  const int32_t* index = st.index;
+  const double* coef = st.coef;
+  const Vec3& dir = st.dir;
+  const double depth = thickness_ - st.separation;
+  if (!st.valid || !(depth > 0.0)) return;
+  double mobility[4];
+  const double weight = mobilities(st, state, mobility);
+  if (!(weight > 0.0)) return;
+  const double lambda = depth / weight;
+  for (int k = 0; k < 4; ++k) x[index[k]] += (lambda * coef[k] * mobility[k]) * dir;
+
+  // Coulomb friction on the pair's relative slide over the frame, as for colliders: cancelled
+  // where within friction × depth (static), shortened by it otherwise (kinetic).
+  if (friction_ <= 0.0) return;
+  Vec3 slide = Vec3::Zero();
+  for (int k = 0; k < 4; ++k) slide += coef[k] * (x[index[k]] - start[index[k]]);
+  slide -= slide.dot(dir) * dir;
+  const double length = slide.norm(), grip = friction_ * depth;
+  if (!(length > 0.0)) return;
+  const double cancel = length <= grip ? 1.0 : grip / length;
+  for (int k = 0; k < 4; ++k) x[index[k]] -= (cancel * coef[k] * mobility[k] / weight) * slide;
+}
+
+bool SelfCollision::remove_crossings(const ClothModel& model, const std::vector<Vec3>& start,
+                                     double dt, ClothState& state) {
+  std::vector<Vec3>& x = state.x;
+  crossing_finder_.find(model.triangles, x, crossing_);
+  report_.crossings = static_cast<int64_t>(crossing_.size());
+  if (crossing_.empty()) return false;
+
+  auto root = [&](int32_t v) {
+    while (zone_[v] != v) v = zone_[v] = zone_[zone_[v]];
+    return v;
+  };
+  // The zones' momenta are those of the motion the contacts left.
+  contacted_ = x;
+  for (int round = 0; round < kMaxRounds && !crossing_.empty(); ++round) {
+    // Every crossing pair's six vertices join one zone.
+    for (const TrianglePair& pair : crossing_) {
+      const int32_t first = model.triangles[pair.s][0];
+      for (const int32_t t : {pair.s, pair.t})
+        for (const int32_t v : model.triangles[t]) {
+          if (zone_state_[v] == 0) zone_state_[v] = 1, zoned_.push_back(v);
+          const int32_t a = root(first), b = root(v);
+          if (a != b) zone_[std::max(a, b)] = std::min(a, b);
+        }
+    }
+    // The zones, each a run of zoned_ sorted by root then vertex: the same sums every time.
+    std::sort(zoned_.begin(), zoned_.end(), [&](int32_t u, int32_t w) {
+      const int32_t ru = root(u), rw = root(w);
+      return ru != rw ? ru < rw : u < w;
+    });
+    const bool rigid = round < kRigidRounds;
+    for (size_t z0 = 0, z1; z0 < zoned_.size(); z0 = z1) {
+      const int32_t r = root(zoned_[z0]);
+      bool held = false;  // frozen already, or holding a pinned or grabbed particle
+      for (z1 = z0; z1 < zoned_.size() && root(zoned_[z1]) == r; ++z1)
+        held = held || zone_state_[zoned_[z1]] == 2 || state.inv_mass[zoned_[z1]] == 0.0;
+      if (!rigid || held) {
+        for (size_t k = z0; k < z1; ++k) {
+          const int32_t v = zoned_[k];
+          zone_state_[v] = 2;
+          if (state.inv_mass[v] == 0.0) continue;
+          x[v] = start[v];
+          state.v[v].setZero();
+        }
+        continue;
+      }
+      // Rigid: the zone's centre of mass moves with its momentum and it turns with its angular
+      // momentum about the centre, from where it started the frame.
+      double mass = 0.0;
+      Vec3 centre = Vec3::Zero(), velocity = Vec3::Zero();
+      for (size_t k = z0; k < z1; ++k) {
+        const int32_t v = zoned_[k];
+        mass += model.mass[v];
+        centre += model.mass[v] * start[v];
+        velocity += model.mass[v] * (contacted_[v] - start[v]) / dt;
+      }
+      centre /= mass;
+      velocity /= mass;
+      Vec3 momentum = Vec3::Zero();
+      Eigen::Matrix3d inertia = Eigen::Matrix3d::Zero();
+      for (size_t k = z0; k < z1; ++k) {
+        const int32_t v = zoned_[k];
+        const Vec3 r0 = start[v] - centre;
+        momentum += model.mass[v] * r0.cross((contacted_[v] - start[v]) / dt - velocity);
+        inertia +=
+            model.mass[v] * (r0.squaredNorm() * Eigen::Matrix3d::Identity() - r0 * r0.transpose());
+      }
+      // A zone in a line (or at a point) has no inertia about it: it only translates.
+      const double determinant = inertia.determinant(), trace = inertia.trace();
+      const Vec3 spin = determinant > 1e-9 * trace * trace * trace
+                            ? Vec3(inertia.inverse() * momentum)
+                            : Vec3::Zero();
+      const double angle = spin.norm() * dt;
+      const Eigen::Matrix3d turn =
+          angle > 0.0 ? Eigen::AngleAxisd(angle, spin.normalized()).toRotationMatrix()
+                      : Eigen::Matrix3d::Identity();
+      const Vec3 moved = centre + dt * velocity;
+      for (size_t k = z0; k < z1; ++k) {
+        const int32_t v = zoned_[k];
+        x[v] = moved + turn * (start[v] - centre);
+        state.v[v] = velocity + spin.cross(x[v] - moved);
+      }
+    }
+    crossing_finder_.find(model.triangles, x, crossing_);
+    // A round that can freeze nothing more (every crossing pair held already: pinned or held
+    // particles moved into it) cannot help: what is left is reported.
+    if (!rigid) {
+      bool progress = false;
+      for (const TrianglePair& pair : crossing_)
+        for (const int32_t t : {pair.s, pair.t})
+          for (const int32_t v : model.triangles[t])
+            progress = progress || (zone_state_[v] != 2 && state.inv_mass[v] != 0.0);
+      if (!progress) break;
+    }
+  }
+  report_.left = static_cast<int64_t>(crossing_.size());
+  for (const int32_t v : zoned_) {
+    if (zone_state_[v] == 1) ++report_.zone_vertices;
+    if (zone_state_[v] == 2) ++report_.frozen_vertices;
+  }
+  return true;
+}
+
+bool SelfCollision::resolve(const ClothModel& model, const std::vector<Vec3>& start,
+                            const std::vector<Collider>& colliders, double dt, ClothState& state) {
+  report_ = {};
+  solved_ = state.x;
+  // Last frame's zones, undone.
+  for (const int32_t v : zoned_) zone_[v] = v, zone_state_[v] = 0;
+  zoned_.clear();
+
+  // Particles resting on a collider do not give way to the layers above them (mass scaling
+  // for stacks, as in Guendelman et al. 2003's shock propagation): the upper layer takes the
+  // whole push, and no contact drives a lower layer into the ground.
+  mobility_.resize(model.size());
+  for (int32_t i = 0; i < model.size(); ++i) {
+    mobility_[i] = state.inv_mass[i];
+    Vec3 normal;
+    for (const Collider& col : colliders)
+      if (signed_distance(col, state.x[i], normal) - col.thickness < kGrounded * thickness_)
+        mobility_[i] = 0.0;
+  }
+  find_contacts(model, start, state.x);
+  report_.contacts = static_cast<int64_t>(contacts_.size());
+  bool changed = false;
+  if (!contacts_.empty()) {
+    changed = true;
+    for (int pass = 0; pass < kContactPasses; ++pass) {
+      for (const Contact& c : contacts_) push_apart(c, model, start, state);
+      if (colliders.empty()) continue;
+      for (int32_t i = 0; i < model.size(); ++i) {
+        if (state.inv_mass[i] == 0.0) continue;
+        Vec3 normal;
+        for (const Collider& col : colliders) project_out(col, state.x[i], normal);
+      }
+    }
+  }
+  changed = remove_crossings(model, start, dt, state) || changed;
+  if (!changed) return false;
+
+  // Velocities change with what the contacts moved (rigid and frozen vertices have theirs).
+  for (int32_t i = 0; i < model.size(); ++i)
+    if (state.inv_mass[i] != 0.0 && zone_state_[i] == 0)
+      state.v[i] += (state.x[i] - solved_[i]) / dt;
+  // Pairs left touching do not approach any more (an inelastic impulse on the relative normal
+  // velocity): moving the positions back does not stop a vertex the solver drove through, and
+  // it would go through again next frame, against the contacts every frame.
+  for (const Contact& c : contacts_) {
+    const Stencil st = stencil(c, model, start, state.x);
+    if (!st.valid || st.separation > kTouching * thickness_) continue;
+    double approach = 0.0, mobility[4];
+    bool zoned = false;  // zones have their velocities
+    for (int k = 0; k < 4; ++k) {
+      zoned = zoned || zone_state_[st.index[k]] != 0;
+      approach -= st.coef[k] * st.dir.dot(state.v[st.index[k]]);
+    }
+    const double weight = mobilities(st, state, mobility);
+    if (zoned || !(approach > 0.0) || !(weight > 0.0)) continue;
+    for (int k = 0; k < 4; ++k)
+      state.v[st.index[k]] += (approach * st.coef[k] * mobility[k] / weight) * st.dir;
+  }
+  update_normals(model, state);
+  return true;
+}
+
+}  // namespace drape

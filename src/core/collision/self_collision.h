@@ -1,0 +1,110 @@
+// Self-collision: the stage after each frame's solve that keeps the cloth from passing through
+// itself, whatever the method. It works on the frame's start and end positions, as Bridson,
+// Fedkiw & Anderson (2002, "Robust treatment of collisions, contact and friction for cloth
+// animation") do with their collision step around any internal dynamics:
+//
+//  1. Contacts. Vertex–triangle and edge–edge pairs closer than the thickness at the end of the
+//     frame, or whose sides changed during it, are found through a grid over the swept boxes.
+//     Each is pushed apart to the thickness on the side it started the frame on, with Coulomb
+//     friction on the relative slide, in a few Gauss–Seidel passes (a position-based
+//     repulsion: Müller et al. 2007; Macklin et al. 2014). Colliders are enforced after each
+//     pass, so a lower layer is not pushed into the ground.
+//  2. Fail-safe: rigid impact zones. Triangle pairs that still cross (the certified test of
+//     count_self_intersections) join their vertices into zones, which move rigidly from their
+//     start positions with the zone's linear and angular momentum (Provot 1997; Bridson 2002).
+//     A rigid motion of a crossing-free start crosses nothing inside the zone; pairs between
+//     zones and the rest merge zones, and the check repeats.
+//  3. Last resort: zones that still cross after a few rounds stay where they started the frame,
+//     at rest. Frozen triangles cannot cross each other (they did not at the start), and every
+//     round freezes at least one more vertex, so the loop ends with no crossing pair.
+//
+// Velocities change with the positions (Δx/dt: contacts end inelastic), rigid zones take the
+// zone's velocity, frozen vertices stop. The promise holds when the frame starts free of
+// crossings and its kinematic particles (pins, the held one) are the ones that caused none.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "box_grid.h"
+#include "crossings.h"
+#include "drape/cloth.h"
+#include "drape/collider.h"
+#include "drape/simulation.h"
+
+namespace drape {
+
+/// The thickness the definition asks for on this cloth: its own, or a quarter of the mean edge.
+double self_collision_thickness(const SelfCollisionDef& def, const ClothModel& model);
+
+class SelfCollision {
+ public:
+  /// Sets up for the cloth (its edges) with the gap and friction to keep.
+  void prepare(const ClothModel& model, double thickness, double friction);
+
+  /// Acts on the state the solver left at the end of a frame of dt that began at positions
+  /// `start`, as the header describes. Leaves state.normal up to date. Returns whether it
+  /// changed the state.
+  bool resolve(const ClothModel& model, const std::vector<Vec3>& start,
+               const std::vector<Collider>& colliders, double dt, ClothState& state);
+
+  /// How many collision steps a frame needs whose cloth deforms by `motion` (m): enough that
+  /// layers move a few thicknesses at most between two steps, at most kMaxParts.
+  int parts_for(double motion) const;
+  static constexpr int kMaxParts = 8;
+  /// The largest motion of a particle from `start` to `x` relative to the cloth's mean motion,
+  /// m (a cloth falling as one has none).
+  static double relative_motion(const std::vector<Vec3>& start, const std::vector<Vec3>& x);
+
+  const SelfCollisionReport& report() const { return report_; }
+  double thickness() const { return thickness_; }
+  int64_t bytes() const;
+
+ private:
+  /// A vertex–triangle (kind 0: a = the vertex, b = the triangle) or edge–edge (kind 1: a and b
+  /// edges) pair, in the order found.
+  struct Contact {
+    int32_t a, b;
+    uint8_t kind;
+  };
+  /// A contact as four particles with coefficients: the pair's separation is
+  /// dir · Σ coef[k]·x[index[k]], dir pointing to the side the pair started the frame on.
+  struct Stencil {
+    int32_t index[4];
+    double coef[4];
+    Vec3 dir;
+    double separation = 0.0;
+    bool valid = false;  ///< false where no direction is defined (degenerate)
+  };
+  Stencil stencil(const Contact& c, const ClothModel& model, const std::vector<Vec3>& start,
+                  const std::vector<Vec3>& x) const;
+  /// Fills the inverse masses a contact moves its four particles with (mobility_, or the plain
+  /// ones where grounding would leave too little free) and returns Σ coef²·mobility.
+  double mobilities(const Stencil& st, const ClothState& state, double mobility[4]) const;
+  void find_contacts(const ClothModel& model, const std::vector<Vec3>& start,
+                     const std::vector<Vec3>& x);
+  void push_apart(const Contact& c, const ClothModel& model, const std::vector<Vec3>& start,
+                  ClothState& state) const;
+  bool remove_crossings(const ClothModel& model, const std::vector<Vec3>& start, double dt,
+                        ClothState& state);
+
+  double thickness_ = 0.0;
+  double friction_ = 0.0;
+  std::vector<std::array<int32_t, 2>> edges_;
+  std::vector<Box> triangle_boxes_, edge_boxes_;
+  std::vector<int32_t> kept_triangles_, kept_edges_;
+  BoxGrid triangle_grid_, edge_grid_;
+  std::vector<Contact> contacts_;
+  std::vector<Vec3> solved_;      ///< the positions the solver left, for the velocity change
+  std::vector<double> mobility_;  ///< per particle, the inverse mass contacts move it with
+  std::vector<Vec3> contacted_;   ///< the positions the contacts left, for zones' momenta
+  CrossingFinder crossing_finder_;
+  std::vector<TrianglePair> crossing_;
+  std::vector<int32_t> zone_;        ///< union–find parent per vertex (itself: a root)
+  std::vector<uint8_t> zone_state_;  ///< 0 free, 1 in a rigid zone, 2 frozen
+  std::vector<int32_t> zoned_;       ///< vertices in zones, this frame
+  SelfCollisionReport report_;
+};
+
+}  // namespace drape

@@ -1,0 +1,47 @@
+// An intersection count for the tests, independent of the library's: every pair of triangles,
+// each edge against the other triangle by its plane crossing and barycentric signs (not the
+// orientation predicates count_self_intersections uses).
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "drape/math.h"
+#include "drape/mesh.h"
+
+namespace drape::testing_support {
+
+// Segment pq passes strictly through the inside of triangle abc: p and q strictly on either
+// side of its plane, and the point where pq meets the plane strictly inside all three edges.
+inline bool crosses(const Vec3& p, const Vec3& q, const Vec3& a, const Vec3& b, const Vec3& c) {
+  const Vec3 n = (b - a).cross(c - a);
+  const double dp = n.dot(p - a), dq = n.dot(q - a);
+  if (!(dp * dq < 0.0)) return false;
+  const Vec3 hit = p + dp / (dp - dq) * (q - p);
+  return n.dot((b - a).cross(hit - a)) > 0.0 && n.dot((c - b).cross(hit - b)) > 0.0 &&
+         n.dot((a - c).cross(hit - c)) > 0.0;
+}
+
+/// Crossing pairs of triangles that share no vertex, every pair tested: each edge against the
+/// other triangle.
+inline int64_t brute_force_crossings(const std::vector<Triangle>& triangles,
+                                     const std::vector<Vec3>& x) {
+  int64_t count = 0;
+  for (size_t s = 0; s < triangles.size(); ++s)
+    for (size_t t = s + 1; t < triangles.size(); ++t) {
+      const Triangle &S = triangles[s], &T = triangles[t];
+      bool shared = false;
+      for (int32_t i : S)
+        for (int32_t j : T) shared = shared || i == j;
+      if (shared) continue;
+      bool hit = false;
+      for (int e = 0; e < 3 && !hit; ++e) {
+        hit = crosses(x[S[e]], x[S[(e + 1) % 3]], x[T[0]], x[T[1]], x[T[2]]) ||
+              crosses(x[T[e]], x[T[(e + 1) % 3]], x[S[0]], x[S[1]], x[S[2]]);
+      }
+      count += hit;
+    }
+  return count;
+}
+
+}  // namespace drape::testing_support

@@ -1,0 +1,201 @@
+// Self-collision (cloth.self_collision): the promise that no two triangles cross at the end of
+// any frame, checked with the tests' own brute-force count, for every method; layers kept
+// apart; determinism; the keys and their errors.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <memory>
+#include <string>
+#include <vector>
+
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
+#include <nlohmann/json.hpp>
+#include "brute_force_crossings.h"
+#include "drape/error.h"
+#include "drape/self_intersections.h"
+#include "drape/simulation.h"
+#include "io/scene_io.h"
+#include "test_scenes.h"
+#include "variants.h"
+
+namespace drape {
+namespace {
+
+using testing_support::brute_force_crossings;
+using testing_support::Variant;
+
+// The shipped pile, small: a cloth dropped edge first so that it folds onto itself.
+SceneDef small_pile(int n) {
+  SceneDef def = testing_support::shipped("pile");
+  def.cloth.cols = def.cloth.rows = n;
+  def.duration = 2.5;
+  return def;
+}
+
+// Two separate square sheets of n × n quads, 1 m wide: one lying 2 cm above the ground, the
+// other 30 cm above it, turned by `tilt` degrees about x; self-collision on, 1 cm thick.
+SceneDef two_sheets(int n, double tilt) {
+  auto sheets = std::make_shared<ClothMesh>();
+  const double turn = tilt * 3.14159265358979 / 180.0;
+  for (const double y : {0.02, 0.3}) {
+    const int32_t first = static_cast<int32_t>(sheets->positions.size());
+    for (int j = 0; j <= n; ++j)
+      for (int i = 0; i <= n; ++i) {
+        const double z = -0.5 + double(j) / n;
+        const double rise = y > 0.1 ? z * std::sin(turn) : 0.0;
+        sheets->positions.push_back(
+            Vec3(-0.5 + double(i) / n, y + rise, y > 0.1 ? z * std::cos(turn) : z));
+      }
+    auto at = [&](int i, int j) { return first + j * (n + 1) + i; };
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i) {
+        sheets->triangles.push_back({at(i, j), at(i, j + 1), at(i + 1, j + 1)});
+        sheets->triangles.push_back({at(i, j), at(i + 1, j + 1), at(i + 1, j)});
+      }
+  }
+  SceneDef def;
+  def.cloth.mesh = sheets;
+  def.cloth.mesh_file = "two sheets";
+  def.cloth.pins.clear();
+  def.cloth.perturbation = 0.0;
+  def.cloth.self_collision.enabled = true;
+  def.cloth.self_collision.thickness = 0.01;
+  ColliderDef ground;
+  ground.type = ColliderType::plane;
+  ground.thickness = 0.005;
+  def.colliders = {ground};
+  return def;
+}
+
+class SelfCollisionEveryMethod : public ::testing::TestWithParam<Variant> {};
+
+// Without self-collision the pile ends with its triangles through each other (the test can
+// fail); with it, no frame ends with a crossing pair, counted by the tests' own brute force.
+// A tilted sheet dropped onto a flat one goes through it without self-collision (so the test
+// can fail); with it, no frame ends with a crossing pair, counted by the tests' own brute
+// force, on two sheets and on a cloth folding onto itself.
+TEST_P(SelfCollisionEveryMethod, NoFrameEndsWithCrossingTriangles) {
+  SceneDef sheets = testing_support::with(two_sheets(8, 20.0), GetParam());
+  sheets.duration = 1.0;
+  sheets.cloth.self_collision.enabled = false;
+  Simulation free(sheets);
+  int64_t crossings_without = 0;
+  for (int64_t f = 0; f < frame_count(sheets) && free.step(); ++f)
+    crossings_without =
+        std::max(crossings_without, brute_force_crossings(free.model().triangles, free.state().x));
+  ASSERT_FALSE(free.diverged()) << free.divergence();
+  EXPECT_GT(crossings_without, 0) << "the sheets no longer pass through each other without "
+                                     "self-collision: the test tests nothing";
+
+  sheets.cloth.self_collision.enabled = true;
+  for (const SceneDef& def : {sheets, testing_support::with(small_pile(12), GetParam())}) {
+    Simulation sim(def);
+    for (int64_t f = 0; f < frame_count(def); ++f) {
+      ASSERT_TRUE(sim.step()) << sim.divergence();
+      ASSERT_EQ(brute_force_crossings(sim.model().triangles, sim.state().x), 0)
+          << def.cloth.mesh_file << " frame " << f;
+    }
+    ASSERT_NE(sim.self_collision(), nullptr);
+    EXPECT_EQ(sim.self_collision()->left, 0);
+    EXPECT_LT(sim.diagnostics().max_penetration, 1e-9);  // and the ground still holds it
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Methods, SelfCollisionEveryMethod,
+                         ::testing::ValuesIn(testing_support::kVariants),
+                         testing_support::variant_name);
+
+// Two separate sheets, one dropped flat onto the other lying on the ground: the top one comes
+// to rest on the bottom one, a thickness above it, instead of falling through to the ground.
+TEST(SelfCollision, ASheetDroppedOnAnotherRestsOnItAThicknessAbove) {
+  const int n = 10;
+  SceneDef def = two_sheets(n, 0.0);
+  def.solver.method = Method::xpbd;
+  def.solver.substeps = 20;
+  def.duration = 1.5;
+  Simulation sim(def);
+  for (int64_t f = 0; f < frame_count(def); ++f) ASSERT_TRUE(sim.step()) << sim.divergence();
+  const int32_t per_sheet = (n + 1) * (n + 1);
+  double bottom_highest = -1.0, top_lowest = 1.0;
+  for (int32_t i = 0; i < per_sheet; ++i) {
+    bottom_highest = std::max(bottom_highest, sim.state().x[i].y());
+    top_lowest = std::min(top_lowest, sim.state().x[per_sheet + i].y());
+  }
+  EXPECT_NEAR(bottom_highest, 0.005, 2e-3);            // the bottom sheet on the ground
+  EXPECT_GT(top_lowest - bottom_highest, 0.8 * 0.01);  // the top one a thickness above it
+  EXPECT_LT(top_lowest, 0.005 + 0.02);                 // and resting on it, not floating
+  EXPECT_LT(sim.diagnostics().kinetic_energy, 1e-4);   // at rest
+}
+
+TEST(SelfCollision, SameBitsTwiceAndOnOneOrTwoThreads) {
+  SceneDef def = small_pile(16);
+  def.duration = 1.5;
+  auto run = [&](int threads) {
+#ifdef _OPENMP
+    omp_set_num_threads(threads);
+#endif
+    Simulation sim(def);
+    for (int64_t f = 0; f < frame_count(def); ++f) sim.step();
+    return sim.state().x;
+  };
+  const std::vector<Vec3> a = run(1), b = run(2), c = run(2);
+#ifdef _OPENMP
+  omp_set_num_threads(omp_get_num_procs());
+#endif
+  ASSERT_EQ(a.size(), b.size());
+  for (size_t i = 0; i < a.size(); ++i) {
+    ASSERT_EQ(a[i], b[i]) << "particle " << i << ": one thread against two";
+    ASSERT_EQ(b[i], c[i]) << "particle " << i << ": two runs";
+  }
+}
+
+// Off by default, and off it changes nothing: the state is bit for bit the one without it.
+TEST(SelfCollision, OffByDefault) {
+  SceneDef def;
+  EXPECT_FALSE(def.cloth.self_collision.enabled);
+  Simulation sim(def);
+  EXPECT_EQ(sim.self_collision(), nullptr);
+}
+
+TEST(SelfCollision, SceneKeys) {
+  auto parse = [](const std::string& cloth) {
+    return io::parse_scene(nlohmann::json::parse(R"({"cloth": {"self_collision": )" + cloth + "}}"),
+                           "test");
+  };
+  EXPECT_FALSE(parse("false").cloth.self_collision.enabled);
+  EXPECT_TRUE(parse("true").cloth.self_collision.enabled);
+  const SceneDef def = parse(R"({"thickness": 0.004, "friction": 0.5})");
+  EXPECT_TRUE(def.cloth.self_collision.enabled);
+  EXPECT_EQ(def.cloth.self_collision.thickness, 0.004);
+  EXPECT_EQ(def.cloth.self_collision.friction, 0.5);
+  // Written back and read again, the same.
+  const SceneDef again = io::parse_scene(io::to_json(def), "again");
+  EXPECT_EQ(again.cloth.self_collision.thickness, 0.004);
+  EXPECT_EQ(again.cloth.self_collision.friction, 0.5);
+
+  auto error_of = [&](const std::string& cloth) {
+    try {
+      Simulation sim(parse(cloth));
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_NE(error_of("3").find("cloth.self_collision"), std::string::npos);
+  EXPECT_NE(error_of(R"({"thickness": -1})").find("cloth.self_collision.thickness"),
+            std::string::npos);
+  EXPECT_NE(error_of(R"({"friction": -0.1})").find("cloth.self_collision.friction"),
+            std::string::npos);
+  EXPECT_NE(error_of(R"({"thikness": 0.01})").find("thikness"), std::string::npos);
+  // The default cloth's edges are 6.45 cm: 4 cm is more than half.
+  const std::string thick = error_of(R"({"thickness": 0.04})");
+  EXPECT_NE(thick.find("cloth.self_collision.thickness"), std::string::npos) << thick;
+  EXPECT_NE(thick.find("half the cloth's mean edge"), std::string::npos) << thick;
+}
+
+}  // namespace
+}  // namespace drape
