@@ -31,7 +31,8 @@ namespace fs = std::filesystem;
 namespace {
 
 struct BenchOptions {
-  std::vector<std::string> scenes{"hang", "hang-lr", "drape", "drape-mesh"};
+  std::vector<std::string> scenes{"hang", "hang-lr", "drape",
+                                  "drape-mesh"};  // pile, drape-sc on request
   std::vector<int> sizes{32, 64, 128, 256};
   std::vector<std::string> methods;                         // empty: all
   std::vector<std::string> precisions{"double", "single"};  // single: for xpbd only
@@ -133,11 +134,17 @@ Row bench_one(const BenchOptions& o, const std::string& scene, int n, const Vari
   omp_set_num_threads(threads);
 #endif
   const bool long_range = scene == "hang-lr", mesh = scene == "drape-mesh";
+  const bool self_collision = scene == "drape-sc";
   const std::string file = data_dir("bench") + "/scenes/" +
-                           (long_range ? "hang" : mesh ? "drape" : scene) + ".json";
+                           (long_range               ? "hang"
+                            : mesh || self_collision ? "drape"
+                                                     : scene) +
+                           ".json";
   std::vector<std::string> sets = {"solver.method=" + v.method, "solver.precision=" + v.precision};
-  if (!mesh) sets.push_back("cloth.resolution=[" + std::to_string(n) + "," + std::to_string(n) + "]");
+  if (!mesh)
+    sets.push_back("cloth.resolution=[" + std::to_string(n) + "," + std::to_string(n) + "]");
   if (long_range) sets.push_back("cloth.long_range=true");
+  if (self_collision) sets.push_back("cloth.self_collision=true");
   if (substeps > 0) sets.push_back("solver.substeps=" + std::to_string(substeps));
   if (stiff_sweeps > 0) sets.push_back("solver.stiff_sweeps=" + std::to_string(stiff_sweeps));
   if (line_passes > 0) sets.push_back("solver.line_passes=" + std::to_string(line_passes));
@@ -167,7 +174,9 @@ Row bench_one(const BenchOptions& o, const std::string& scene, int n, const Vari
   hooks.after_frame = [&](const Simulation& s) {
     if (s.frame() > o.frames - kLastSecondFrames)
       row.strain_last_second = std::max(row.strain_last_second, s.diagnostics().max_strain);
-    if (s.frame() % kSelfIntersectionEvery == 0 || s.frame() == o.frames)
+    // With self-collision on, every frame: its bar is none at any frame.
+    if (s.def().cloth.self_collision.enabled || s.frame() % kSelfIntersectionEvery == 0 ||
+        s.frame() == o.frames)
       row.self_intersections = std::max(row.self_intersections,
                                         count_self_intersections(s.model().triangles, s.state().x));
   };
@@ -196,7 +205,8 @@ Row bench_one(const BenchOptions& o, const std::string& scene, int n, const Vari
   if (r.status != RunStatus::ok) row.status = to_string(r.status);
   row.quality = row.status == "ok" && d.finite && row.strain_last_second <= kMaxStrain &&
                 row.strain_last <= kMaxStrain && row.penetration <= kMaxPenetration &&
-                row.on_sphere;
+                row.on_sphere &&
+                (!sim->def().cloth.self_collision.enabled || row.self_intersections == 0);
   return row;
 }
 
@@ -415,10 +425,11 @@ int bench(BenchOptions o) {
     return kExitBadInput;
   }
   for (const std::string& s : o.scenes) {
-    if (s != "hang" && s != "hang-lr" && s != "drape" && s != "drape-mesh") {
+    if (s != "hang" && s != "hang-lr" && s != "drape" && s != "drape-mesh" && s != "drape-sc" &&
+        s != "pile") {
       std::fprintf(stderr,
                    "drape: error: --scenes: unknown scene \"%s\"; expected hang, hang-lr, "
-                   "drape or drape-mesh\n",
+                   "drape, drape-mesh, drape-sc or pile\n",
                    s.c_str());
       return kExitBadInput;
     }
@@ -468,9 +479,12 @@ std::function<int()> add_bench_command(CLI::App& app) {
   auto o = std::make_shared<BenchOptions>();
   CLI::App* cmd = app.add_subcommand(
       "bench", "Time the standard scenes (bench/scenes) at several sizes, methods and threads");
-  cmd->add_option("--scenes", o->scenes,
-                  "Scenes: hang, hang-lr (long-range attachments), drape, drape-mesh (drape's cloth "
-                  "as an irregular triangle mesh of N x N vertices)")
+  cmd->add_option(
+         "--scenes", o->scenes,
+         "Scenes: hang, hang-lr (long-range attachments), drape, drape-mesh (drape's cloth "
+         "as an irregular triangle mesh of N x N vertices), drape-sc (drape with "
+         "self-collision), pile (a cloth folding onto itself on the ground, "
+         "self-collision on; its bar: no crossing triangles at any frame)")
       ->delimiter(',')
       ->capture_default_str();
   cmd->add_option("--sizes", o->sizes, "Grid sizes N (N×N particles)")

@@ -124,9 +124,9 @@ double SelfCollision::relative_motion(const std::vector<Vec3>& start, const std:
 }
 
 int64_t SelfCollision::bytes() const {
-  return heap_bytes(edges_, triangle_boxes_, edge_boxes_, kept_triangles_, kept_edges_, contacts_,
-                    solved_, contacted_, mobility_, crossing_, zone_, zone_state_, zoned_) +
-         triangle_grid_.bytes() + edge_grid_.bytes();
+  return heap_bytes(edges_, face_boxes_, edge_boxes_, kept_faces_, kept_edges_, contacts_, solved_,
+                    contacted_, mobility_, crossing_, zone_, zone_state_, zoned_) +
+         face_grid_.bytes() + edge_grid_.bytes();
 }
 
 void SelfCollision::find_contacts(const ClothModel& model, const std::vector<Vec3>& start,
@@ -134,17 +134,26 @@ void SelfCollision::find_contacts(const ClothModel& model, const std::vector<Vec
   const double h = thickness_, reach = kReach * h;
   const std::vector<Triangle>& triangles = model.triangles;
   // Swept boxes: a triangle's widened by the reach, so a vertex's own swept box meets it when
-  // the two come within reach; an edge's by half, so two edges' boxes meet within it.
-  kept_triangles_.clear();
-  triangle_boxes_.resize(triangles.size());
-  for (size_t t = 0; t < triangles.size(); ++t) {
+  // the two come within reach; an edge's by half, so two edges' boxes meet within it. The
+  // triangles and the vertices share one grid (triangle t as box t, vertex p as box T + p), so
+  // that each cell lists its triangles, then its vertices.
+  const int32_t triangle_count = static_cast<int32_t>(triangles.size());
+  const int32_t n = static_cast<int32_t>(x.size());
+  kept_faces_.clear();
+  face_boxes_.resize(triangles.size() + x.size());
+  for (int32_t t = 0; t < triangle_count; ++t) {
     const Triangle& tri = triangles[t];
     if (!finite_all(x[tri[0]], start[tri[0]]) || !finite_all(x[tri[1]], start[tri[1]]) ||
         !finite_all(x[tri[2]], start[tri[2]]))
       continue;
-    triangle_boxes_[t] = swept_box(reach, x[tri[0]], x[tri[1]], x[tri[2]], start[tri[0]],
-                                   start[tri[1]], start[tri[2]]);
-    kept_triangles_.push_back(static_cast<int32_t>(t));
+    face_boxes_[t] = swept_box(reach, x[tri[0]], x[tri[1]], x[tri[2]], start[tri[0]], start[tri[1]],
+                               start[tri[2]]);
+    kept_faces_.push_back(t);
+  }
+  for (int32_t p = 0; p < n; ++p) {
+    if (!finite_all(x[p], start[p])) continue;
+    face_boxes_[triangle_count + p] = swept_box(0.0, x[p], start[p]);
+    kept_faces_.push_back(triangle_count + p);
   }
   kept_edges_.clear();
   edge_boxes_.resize(edges_.size());
@@ -154,7 +163,7 @@ void SelfCollision::find_contacts(const ClothModel& model, const std::vector<Vec
     edge_boxes_[e] = swept_box(0.5 * reach, x[i], x[j], start[i], start[j]);
     kept_edges_.push_back(static_cast<int32_t>(e));
   }
-  triangle_grid_.build(triangle_boxes_, kept_triangles_);
+  face_grid_.build(face_boxes_, kept_faces_);
   edge_grid_.build(edge_boxes_, kept_edges_);
 
   // A vertex and a triangle are a contact when within reach at the end of the frame, or when
@@ -183,27 +192,38 @@ void SelfCollision::find_contacts(const ClothModel& model, const std::vector<Vec
   };
 
   contacts_.clear();
-  const int32_t n = static_cast<int32_t>(x.size());
-  const int32_t edges = static_cast<int32_t>(edges_.size());
 #pragma omp parallel if (worth_threads(n))
   {
     std::vector<Contact> mine;
-#pragma omp for schedule(dynamic, 256) nowait
-    for (int32_t p = 0; p < n; ++p) {
-      if (!finite_all(x[p], start[p])) continue;
-      const Box box = swept_box(0.0, x[p], start[p]);
-      triangle_grid_.query(box, triangle_boxes_, [&](int32_t t) {
-        if (vertex_triangle(p, t)) mine.push_back({p, t, 0});
-      });
+    // Vertex–triangle pairs cell by cell, each in the one cell the grid reports it in.
+    const int64_t face_cells = face_grid_.cells();
+#pragma omp for schedule(dynamic, 64) nowait
+    for (int64_t cell = 0; cell < face_cells; ++cell) {
+      const int64_t begin = face_grid_.cell_begin(cell), end = face_grid_.cell_begin(cell + 1);
+      for (int64_t u = begin; u < end && face_grid_.entry(u) < triangle_count; ++u) {
+        const int32_t t = face_grid_.entry(u);
+        for (int64_t w = end - 1; w > u && face_grid_.entry(w) >= triangle_count; --w) {
+          const int32_t p = face_grid_.entry(w);
+          if (!overlap(face_boxes_[t], face_boxes_[p]) || !face_grid_.reports_pair_in(cell, t, p))
+            continue;
+          if (vertex_triangle(p - triangle_count, t)) mine.push_back({p - triangle_count, t, 0});
+        }
+      }
     }
-#pragma omp for schedule(dynamic, 256) nowait
-    for (int32_t e = 0; e < edges; ++e) {
-      if (!finite_all(x[edges_[e][0]], x[edges_[e][1]]) ||
-          !finite_all(start[edges_[e][0]], start[edges_[e][1]]))
-        continue;
-      edge_grid_.query(edge_boxes_[e], edge_boxes_, [&](int32_t f) {
-        if (f > e && edge_edge(e, f)) mine.push_back({e, f, 1});
-      });
+    // Edge pairs cell by cell, each pair in the one cell the grid reports it in.
+    const int64_t cells = edge_grid_.cells();
+#pragma omp for schedule(dynamic, 64) nowait
+    for (int64_t cell = 0; cell < cells; ++cell) {
+      const int64_t end = edge_grid_.cell_begin(cell + 1);
+      for (int64_t u = edge_grid_.cell_begin(cell); u < end; ++u) {
+        const int32_t e = edge_grid_.entry(u);
+        for (int64_t w = u + 1; w < end; ++w) {
+          const int32_t f = edge_grid_.entry(w);
+          if (!overlap(edge_boxes_[e], edge_boxes_[f]) || !edge_grid_.reports_pair_in(cell, e, f))
+            continue;
+          if (edge_edge(e, f)) mine.push_back({std::min(e, f), std::max(e, f), 1});
+        }
+      }
     }
 #pragma omp critical
     contacts_.insert(contacts_.end(), mine.begin(), mine.end());

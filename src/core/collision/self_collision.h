@@ -92,9 +92,9 @@ class SelfCollision {
   double thickness_ = 0.0;
   double friction_ = 0.0;
   std::vector<std::array<int32_t, 2>> edges_;
-  std::vector<Box> triangle_boxes_, edge_boxes_;
-  std::vector<int32_t> kept_triangles_, kept_edges_;
-  BoxGrid triangle_grid_, edge_grid_;
+  std::vector<Box> face_boxes_, edge_boxes_;  ///< face_boxes_: the triangles', then the vertices'
+  std::vector<int32_t> kept_faces_, kept_edges_;
+  BoxGrid face_grid_, edge_grid_;
   std::vector<Contact> contacts_;
   std::vector<Vec3> solved_;      ///< the positions the solver left, for the velocity change
   std::vector<double> mobility_;  ///< per particle, the inverse mass contacts move it with
