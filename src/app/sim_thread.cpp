@@ -5,6 +5,7 @@
 
 #include "app/thread_chooser.h"
 #include "drape/error.h"
+#include "drape/self_intersections.h"
 
 namespace drape::app {
 
@@ -194,6 +195,11 @@ void SimThread::publish(double step_ms) {
   s->colliders = sim_->colliders();
   s->def = sim_->def();
   s->diagnostics = sim_->diagnostics();
+  if (step_ms < 0.0 || counted_frame_ < 0 || sim_->frame() - counted_frame_ >= kCountEvery) {
+    self_intersections_ = count_self_intersections(sim_->model().triangles, sim_->state().x);
+    counted_frame_ = sim_->frame();
+  }
+  s->self_intersections = self_intersections_;
   s->frame = sim_->frame();
   s->time = sim_->time();
   s->substeps = sim_->substeps_per_frame();

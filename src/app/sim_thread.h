@@ -26,6 +26,9 @@ struct SimSnapshot {
   std::vector<Collider> colliders;
   SceneDef def;  ///< the settings in effect
   Diagnostics diagnostics;
+  /// Crossing triangle pairs (count_self_intersections), counted every kCountEvery frames and
+  /// after every command
+  int64_t self_intersections = 0;
   int64_t frame = 0;
   double time = 0.0;     ///< s, simulated
   int substeps = 0;      ///< per frame
@@ -76,6 +79,11 @@ class SimThread {
   const bool realtime_;
   std::string error_;
   double step_ms_ = 0.0;
+  // The self-intersection count, taken every this many frames while playing: one count costs
+  // about a frame's step of a large cloth.
+  static constexpr int64_t kCountEvery = 10;
+  int64_t self_intersections_ = 0;
+  int64_t counted_frame_ = -1;  ///< the frame self_intersections_ was counted at
 
   mutable std::mutex mutex_;      // guards everything below
   std::condition_variable wake_;  // the thread: work arrived

@@ -442,6 +442,8 @@ void Viewer::draw_panel() {
               s.time, s.substeps);
   ImGui::Text("%d particles   %zu springs", s.model->size(), s.model->springs.size());
   ImGui::Text("kinetic energy %.4g J   max strain %.2f%%", d.kinetic_energy, 100.0 * d.max_strain);
+  ImGui::Text("self-intersections %lld%s", static_cast<long long>(s.self_intersections),
+              s.def.cloth.self_collision.enabled ? "   (self-collision on)" : "");
   if (s.diverged) {
     ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(1.0f, 0.35f, 0.3f, 1.0f));
     ImGui::TextWrapped("Diverged at frame %lld: %s", static_cast<long long>(s.diverged_frame),
@@ -508,6 +510,9 @@ void Viewer::draw_panel() {
       new_cloth |= ImGui::IsItemDeactivatedAfterEdit();
     }
     live |= slider("mass (kg)", edit_.cloth.mass, 0.01, 20.0, "%.3g", true);
+    live |= ImGui::Checkbox("self-collision", &edit_.cloth.self_collision.enabled);
+    if (edit_.cloth.self_collision.enabled)
+      live |= slider("layer friction", edit_.cloth.self_collision.friction, 0.0, 2.0, "%.2f");
     SpringParams* kinds[] = {&edit_.cloth.structural, &edit_.cloth.shear, &edit_.cloth.bending};
     for (int k = 0; k < kSpringKinds; ++k) {
       // A mesh has no shear springs: its triangles' edges carry shear.
