@@ -1,6 +1,7 @@
 // An intersection count for the tests, independent of the library's: every pair of triangles,
-// each edge against the other triangle by its plane crossing and barycentric signs (not the
-// orientation predicates count_self_intersections uses).
+// each edge against the other triangle by its plane crossing and barycentric signs with a
+// tolerance for touching (not the certified orientation predicates count_self_intersections
+// uses).
 #pragma once
 
 #include <cstdint>
@@ -11,15 +12,20 @@
 
 namespace drape::testing_support {
 
-// Segment pq passes strictly through the inside of triangle abc: p and q strictly on either
-// side of its plane, and the point where pq meets the plane strictly inside all three edges.
+// Segment pq passes through the inside of triangle abc: p and q on either side of its plane,
+// and the point where pq meets the plane inside all three edges, each by more than a relative
+// 1e-12: a touch (a corner or an edge lying on the other triangle, to within rounding) is not
+// a crossing, as for the library.
 inline bool crosses(const Vec3& p, const Vec3& q, const Vec3& a, const Vec3& b, const Vec3& c) {
+  constexpr double kTouch = 1e-12;
   const Vec3 n = (b - a).cross(c - a);
-  const double dp = n.dot(p - a), dq = n.dot(q - a);
-  if (!(dp * dq < 0.0)) return false;
+  const double scale = n.norm() * ((p - a).norm() + (q - a).norm() + (b - a).norm());
+  const double dp = n.dot(p - a), dq = n.dot(q - a), plane = kTouch * scale;
+  if (!((dp < -plane && dq > plane) || (dp > plane && dq < -plane))) return false;
   const Vec3 hit = p + dp / (dp - dq) * (q - p);
-  return n.dot((b - a).cross(hit - a)) > 0.0 && n.dot((c - b).cross(hit - b)) > 0.0 &&
-         n.dot((a - c).cross(hit - c)) > 0.0;
+  const double inside = kTouch * n.squaredNorm();
+  return n.dot((b - a).cross(hit - a)) > inside && n.dot((c - b).cross(hit - b)) > inside &&
+         n.dot((a - c).cross(hit - c)) > inside;
 }
 
 /// Crossing pairs of triangles that share no vertex, every pair tested: each edge against the

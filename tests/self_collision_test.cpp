@@ -37,18 +37,18 @@ SceneDef small_pile(int n) {
 }
 
 // Two separate square sheets of n × n quads, 1 m wide: one lying 2 cm above the ground, the
-// other 30 cm above it, turned by `tilt` degrees about x; self-collision on, 1 cm thick.
-SceneDef two_sheets(int n, double tilt) {
+// other `top` m above it, turned by `tilt` degrees about x; self-collision on, 1 cm thick.
+SceneDef two_sheets(int n, double tilt, double top = 0.3) {
   auto sheets = std::make_shared<ClothMesh>();
   const double turn = tilt * 3.14159265358979 / 180.0;
-  for (const double y : {0.02, 0.3}) {
+  for (const double y : {0.02, top}) {
     const int32_t first = static_cast<int32_t>(sheets->positions.size());
     for (int j = 0; j <= n; ++j)
       for (int i = 0; i <= n; ++i) {
         const double z = -0.5 + double(j) / n;
-        const double rise = y > 0.1 ? z * std::sin(turn) : 0.0;
+        const double rise = y == top ? z * std::sin(turn) : 0.0;
         sheets->positions.push_back(
-            Vec3(-0.5 + double(i) / n, y + rise, y > 0.1 ? z * std::cos(turn) : z));
+            Vec3(-0.5 + double(i) / n, y + rise, y == top ? z * std::cos(turn) : z));
       }
     auto at = [&](int i, int j) { return first + j * (n + 1) + i; };
     for (int j = 0; j < n; ++j)
@@ -75,11 +75,16 @@ class SelfCollisionEveryMethod : public ::testing::TestWithParam<Variant> {};
 
 // Without self-collision the pile ends with its triangles through each other (the test can
 // fail); with it, no frame ends with a crossing pair, counted by the tests' own brute force.
-// A tilted sheet dropped onto a flat one goes through it without self-collision (so the test
-// can fail); with it, no frame ends with a crossing pair, counted by the tests' own brute
-// force, on two sheets and on a cloth folding onto itself.
+// A tilted sheet dropped onto a flat one held up by its corners goes through it without
+// self-collision (so the test can fail); with it, no frame ends with a crossing pair, counted by
+// the tests' own brute force, on two sheets and on a cloth folding onto itself.
 TEST_P(SelfCollisionEveryMethod, NoFrameEndsWithCrossingTriangles) {
+  // The lower sheet held up by its four corners, 15 cm up: the upper one falls into it.
   SceneDef sheets = testing_support::with(two_sheets(8, 20.0), GetParam());
+  sheets.cloth.transform.translate = Vec3(0.0, 0.13, 0.0);
+  for (const int32_t corner : {0, 8, 9 * 8, 9 * 9 - 1})
+    sheets.cloth.pins.push_back(Pin::at_vertex(corner));
+  sheets.cloth.long_range.enabled = sheets.solver.line_passes > 0;  // line passes need it
   sheets.duration = 1.0;
   sheets.cloth.self_collision.enabled = false;
   Simulation free(sheets);
@@ -129,6 +134,40 @@ TEST(SelfCollision, ASheetDroppedOnAnotherRestsOnItAThicknessAbove) {
   EXPECT_GT(top_lowest - bottom_highest, 0.8 * 0.01);  // the top one a thickness above it
   EXPECT_LT(top_lowest, 0.005 + 0.02);                 // and resting on it, not floating
   EXPECT_LT(sim.diagnostics().kinetic_energy, 1e-4);   // at rest
+}
+
+// Coulomb friction between layers: a sheet resting on another, both on a slope of angle θ
+// (the lower one held by the ground's friction), stays when tan θ < μ and slides when
+// tan θ > μ.
+TEST(SelfCollision, ASheetOnASlopeStaysOrSlidesByTheLayersFriction) {
+  const double mu = 0.5;
+  auto slid = [&](double degrees) {
+    SceneDef def = two_sheets(8, 0.0, 0.032);
+    def.cloth.self_collision.friction = mu;
+    def.cloth.transform.rotate = Vec3(degrees, 0.0, 0.0);
+    const double turn = degrees * 3.14159265358979 / 180.0;
+    def.colliders[0].normal = Vec3(0.0, std::cos(turn), std::sin(turn));
+    def.colliders[0].friction = 3.0;  // the lower sheet stays put
+    def.solver.method = Method::xpbd;
+    def.solver.substeps = 20;
+    def.duration = 1.0;
+    Simulation sim(def);
+    const std::vector<Vec3> start = sim.state().x;
+    for (int64_t f = 0; f < frame_count(def); ++f) EXPECT_TRUE(sim.step()) << sim.divergence();
+    // How far the upper sheet moved relative to the lower one, on average.
+    const size_t half = start.size() / 2;
+    Vec3 lower = Vec3::Zero(), upper = Vec3::Zero();
+    for (size_t i = 0; i < half; ++i) {
+      lower += sim.state().x[i] - start[i];
+      upper += sim.state().x[half + i] - start[half + i];
+    }
+    // Along the slope only: the upper sheet also settles a few mm onto the lower one.
+    const Vec3 moved = (upper - lower) / static_cast<double>(half);
+    const Vec3 normal = def.colliders[0].normal;
+    return (moved - moved.dot(normal) * normal).norm();
+  };
+  EXPECT_LT(slid(20.0), 0.005);  // tan 20° = 0.36 < 0.5: stays
+  EXPECT_GT(slid(35.0), 0.1);    // tan 35° = 0.70 > 0.5: slides (1.2 m/s² for a second: ~0.6 m)
 }
 
 TEST(SelfCollision, SameBitsTwiceAndOnOneOrTwoThreads) {

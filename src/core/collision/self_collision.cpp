@@ -471,20 +471,29 @@ bool SelfCollision::resolve(const ClothModel& model, const std::vector<Vec3>& st
       state.v[i] += (state.x[i] - solved_[i]) / dt;
   // Pairs left touching do not approach any more (an inelastic impulse on the relative normal
   // velocity): moving the positions back does not stop a vertex the solver drove through, and
-  // it would go through again next frame, against the contacts every frame.
+  // it would go through again next frame, against the contacts every frame. With that impulse,
+  // Coulomb friction on the relative sliding velocity: the positions' friction cancels a
+  // step's slide, but the solver's velocity at the step's end is the last substep's, about
+  // twice the step's mean on a slope, and what is left of it would creep.
   for (const Contact& c : contacts_) {
     const Stencil st = stencil(c, model, start, state.x);
     if (!st.valid || st.separation > kTouching * thickness_) continue;
-    double approach = 0.0, mobility[4];
+    Vec3 relative = Vec3::Zero();
+    double mobility[4];
     bool zoned = false;  // zones have their velocities
     for (int k = 0; k < 4; ++k) {
       zoned = zoned || zone_state_[st.index[k]] != 0;
-      approach -= st.coef[k] * st.dir.dot(state.v[st.index[k]]);
+      relative += st.coef[k] * state.v[st.index[k]];
     }
+    const double approach = -st.dir.dot(relative);
     const double weight = mobilities(st, state, mobility);
     if (zoned || !(approach > 0.0) || !(weight > 0.0)) continue;
+    const Vec3 slide = relative + approach * st.dir;  // the tangential part
+    const double length = slide.norm(), grip = friction_ * approach;
+    const Vec3 change =
+        approach * st.dir - (length > 0.0 ? std::min(1.0, grip / length) : 0.0) * slide;
     for (int k = 0; k < 4; ++k)
-      state.v[st.index[k]] += (approach * st.coef[k] * mobility[k] / weight) * st.dir;
+      state.v[st.index[k]] += (st.coef[k] * mobility[k] / weight) * change;
   }
   update_normals(model, state);
   return true;
