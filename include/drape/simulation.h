@@ -19,6 +19,7 @@ namespace drape {
 
 class Solver;
 class LongRange;
+class ColliderSet;
 
 /// Figures that describe the state; cheap enough to take once per frame.
 struct Diagnostics {
@@ -103,7 +104,8 @@ class Simulation {
   const SceneDef& def() const { return def_; }
   const ClothModel& model() const { return model_; }
   const ClothState& state() const { return state_; }
-  const std::vector<Collider>& colliders() const { return colliders_; }
+  /// The colliders where they are now (moving ones at the present time).
+  const std::vector<Collider>& colliders() const;
   Diagnostics diagnostics() const;
   MemoryUse memory() const;
 
@@ -131,7 +133,7 @@ class Simulation {
   SceneDef def_;
   ClothModel model_;
   ClothState state_;
-  std::vector<Collider> colliders_;
+  std::unique_ptr<ColliderSet> colliders_;
   std::unique_ptr<LongRange> attachments_;  ///< rebuilt when the pins change
   std::unique_ptr<Solver> solver_;
   std::vector<double> scratch_;
