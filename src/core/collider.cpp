@@ -51,8 +51,11 @@ Collider make_collider(const ColliderDef& def) {
       auto shape = std::make_shared<const TriangleShape>(
           std::move(vertices), def.mesh ? def.mesh->triangles : std::vector<Triangle>{});
       c.center = def.transform.translate;
+      // The sphere about the box's centre through the farthest vertex: tighter than the box's
+      // half-diagonal (a sphere mesh's own radius rather than √3 times it).
       c.bound_center = 0.5 * (shape->lo() + shape->hi());
-      c.bound_radius = 0.5 * (shape->hi() - shape->lo()).norm();
+      for (const Vec3& v : shape->vertices())
+        c.bound_radius = std::max(c.bound_radius, (v - c.bound_center).norm());
       c.mesh = std::move(shape);
       break;
     }
