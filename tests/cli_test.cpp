@@ -227,7 +227,13 @@ INSTANTIATE_TEST_SUITE_P(
         // Legal-looking but wild values.
         BadRun{"HANG --set cloth.springs.structural.stiffness=1e308", "inf substeps"},
         BadRun{"HANG --set solver.dt=1e-320", "solver.dt"},
-        BadRun{"HANG --set cloth.mass=1e11", "cloth.mass"}));
+        BadRun{"HANG --set cloth.mass=1e11", "cloth.mass"},
+        // Colliders (issue 21): an unknown type, a mesh's missing file, a cloth inside a box.
+        BadRun{"HANG --set 'colliders=[{\"type\": \"bx\"}]'", "did you mean \"box\""},
+        BadRun{"HANG --set 'colliders=[{\"type\": \"mesh\", \"file\": \"no.obj\"}]'",
+               "colliders[0].file"},
+        BadRun{"HANG --set 'colliders=[{\"type\": \"box\", \"center\": [0, 1, 0]}]'",
+               "inside this box"}));
 
 TEST_F(Cli, DivergenceExitsThreeWithFrameAndHintAndStillWritesStats) {
   const std::string stats = path("d.json");

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <vector>
 
 #include "drape/cloth.h"
@@ -10,47 +11,102 @@
 
 namespace drape {
 
-/// A collider ready for queries (plane normal normalised), made from a ColliderDef.
-struct Collider {
-  ColliderType type = ColliderType::sphere;
-  Vec3 center = Vec3::Zero();   ///< m, sphere centre or a point on the plane
-  double radius = 0.0;          ///< m, sphere only
-  Vec3 normal = Vec3::UnitY();  ///< unit, plane only: the side the cloth stays on
-  double friction = 0.0;        ///< Coulomb coefficient (dimensionless)
-  double thickness = 0.0;       ///< m, gap kept between the cloth and the surface
+class TriangleShape;
+
+/// A rigid pose: a point p of the collider's definition is at rotation·p + translation.
+struct Pose {
+  Mat3 rotation = Mat3::Identity();
+  Vec3 translation = Vec3::Zero();  ///< m
+  Vec3 apply(const Vec3& p) const { return rotation * p + translation; }
 };
 
-/// The collider a definition describes; make_colliders converts a scene's list.
+/// A collider ready for queries, made from a ColliderDef and posed at a time (its motion):
+/// the fields below are where the surface is now, in world coordinates.
+struct Collider {
+  ColliderType type = ColliderType::sphere;
+  Vec3 center = Vec3::Zero();                 ///< m, sphere or box centre, a point on the plane
+  double radius = 0.0;                        ///< m, sphere and capsule
+  Vec3 normal = Vec3::UnitY();                ///< unit, plane only: the side the cloth stays on
+  Vec3 a = Vec3::Zero();                      ///< m, capsule: one end of its axis
+  Vec3 b = Vec3::Zero();                      ///< m, capsule: the other end
+  Vec3 half_extents = Vec3::Zero();           ///< m, box
+  Mat3 rotation = Mat3::Identity();           ///< box: its axes (columns) in world coordinates
+  std::shared_ptr<const TriangleShape> mesh;  ///< mesh: triangles and BVH, definition frame
+  double friction = 0.0;                      ///< Coulomb coefficient (dimensionless)
+  double thickness = 0.0;                     ///< m, gap kept between the cloth and the surface
+  Pose pose;  ///< where the definition's frame is now (identity: unmoved)
+  /// A sphere around the whole surface (centre, radius in m), infinite for a plane: a point
+  /// farther than bound_radius + thickness from bound_center touches nothing.
+  Vec3 bound_center = Vec3::Zero();
+  double bound_radius = 0.0;
+  // The motion over the substep that ends at this pose (see surface_move).
+  bool moving = false;                                    ///< false: the surface stands still
+  Mat3 back_rotation = Mat3::Identity();                  ///< start rotation · this rotationᵀ
+  Vec3 back_from = Vec3::Zero(), back_to = Vec3::Zero();  ///< translations now, at the start
+  double move_time = 0.0;  ///< s, since the substep's start (what surface_move spans)
+  /// The displacement (m) over the substep of the surface's point now at x (0 if still).
+  Vec3 surface_move(const Vec3& x) const {
+    return moving ? Vec3(x - (back_rotation * (x - back_from) + back_to)) : Vec3::Zero();
+  }
+  /// The surface's mean velocity (m/s) over that time at the point now at x (0 if still).
+  Vec3 surface_velocity(const Vec3& x) const {
+    return moving && move_time > 0.0 ? Vec3(surface_move(x) / move_time) : Vec3::Zero();
+  }
+  /// Sphere and plane standing still: the vectorised PositionContact applies.
+  bool simple() const {
+    return !moving && (type == ColliderType::sphere || type == ColliderType::plane);
+  }
+};
+
+/// The collider a definition describes, as defined (unmoved); make_colliders converts a
+/// scene's list. A mesh collider builds its BVH here (once).
 Collider make_collider(const ColliderDef& def);
 std::vector<Collider> make_colliders(const std::vector<ColliderDef>& defs);
 
-/// Signed distance from x to the surface (negative inside) and the outward normal there.
+/// Signed distance from x to a capsule's, box's or mesh's surface (see signed_distance).
+double shape_distance(const Collider& c, const Vec3& x, Vec3& normal);
+
+/// Signed distance from x to the surface (negative inside; an open mesh has no inside: its
+/// distance is unsigned) and the outward normal there (the direction from the surface's
+/// closest point to x).
 inline double signed_distance(const Collider& c, const Vec3& x, Vec3& normal) {
   if (c.type == ColliderType::plane) {
     normal = c.normal;
     return c.normal.dot(x - c.center);
   }
+  if (c.type != ColliderType::sphere) return shape_distance(c, x, normal);
   const Vec3 d = x - c.center;
   const double len = d.norm();
   normal = len > 0.0 ? Vec3(d / len) : Vec3::UnitY();
   return len - c.radius;
 }
 
+/// Whether x is surely farther from the surface than the thickness plus `margin` (m), by the
+/// bounding sphere alone: queries of a mesh or box far from the cloth are skipped this way.
+inline bool clear_of(const Collider& c, const Vec3& x, double margin = 0.0) {
+  const double reach = c.bound_radius + c.thickness + margin;
+  return (x - c.bound_center).squaredNorm() > reach * reach;
+}
+
 /// If x lies closer to the surface than the thickness, moves it out along the normal to the
-/// thickness, removes the inward normal velocity, and applies Coulomb friction to the tangential
-/// velocity: its change is at most friction × the normal velocity change. Returns true on
-/// contact.
+/// thickness, removes the normal velocity into the surface, and applies Coulomb friction to the
+/// tangential velocity: its change is at most friction × the normal velocity change. Velocities
+/// are taken relative to the surface's (a moving collider carries the cloth it touches).
+/// Returns true on contact.
 inline bool resolve_contact(const Collider& c, Vec3& x, Vec3& v) {
+  if (clear_of(c, x)) return false;
   Vec3 n;
   const double gap = signed_distance(c, x, n) - c.thickness;
   if (gap >= 0.0) return false;
   x -= gap * n;
-  const double vn = v.dot(n);
+  const Vec3 surface = c.surface_velocity(x);
+  const Vec3 rel = v - surface;
+  const double vn = rel.dot(n);
   if (vn < 0.0) {
-    const Vec3 vt = v - vn * n;
+    const Vec3 vt = rel - vn * n;
     const double vt_len = vt.norm();
     const double keep = vt_len > 0.0 ? std::max(0.0, 1.0 - c.friction * (-vn) / vt_len) : 0.0;
-    v = keep * vt;
+    v = surface + keep * vt;
   }
   return true;
 }
@@ -129,12 +185,34 @@ struct PositionContact {
 /// Moves x out to the thickness of the collider if it is closer (positions only). Returns the
 /// distance moved (0 if none) and sets `normal` to the outward normal when it moved.
 inline double project_out(const Collider& c, Vec3& x, Vec3& normal) {
+  if (clear_of(c, x)) return 0.0;
   Vec3 n;
   const double gap = signed_distance(c, x, n) - c.thickness;
   if (gap >= 0.0) return 0.0;
   x -= gap * n;
   normal = n;
   return -gap;
+}
+
+/// PositionContact's rule for any collider, moving or not (the path of the shapes it does not
+/// vectorise): x is the particle's position, `move` its move since the substep's start, both
+/// changed in place. Static friction holds the particle to the surface's own move over the
+/// substep, so a moving body carries what it touches. Returns true on contact.
+inline bool position_contact(const Collider& c, Vec3& x, Vec3& move) {
+  if (clear_of(c, x)) return false;
+  Vec3 n;
+  const double gap = signed_distance(c, x, n) - c.thickness;
+  if (gap >= 0.0) return false;
+  const double out = -gap;
+  x += out * n;
+  move += out * n;
+  const Vec3 rel = move - c.surface_move(x);
+  const Vec3 t = rel - rel.dot(n) * n;
+  const double slide = t.norm(), grip = c.friction * out;
+  const double cancel = slide <= grip ? 1.0 : grip / slide;
+  x -= cancel * t;
+  move -= cancel * t;
+  return true;
 }
 
 /// Resolves contacts for every free particle (1/m > 0), each collider in turn.

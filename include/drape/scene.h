@@ -24,6 +24,24 @@ enum class Orientation : uint8_t {
   horizontal  ///< lies in the x–z plane at height origin.y; columns toward +x, rows toward +z
 };
 
+/// One key of a motion: where the body is at time t, relative to where its definition puts it.
+struct MotionKey {
+  double t = 0.0;                 ///< s, from the start of the run
+  Vec3 translate = Vec3::Zero();  ///< m
+  Vec3 rotate = Vec3::Zero();     ///< degrees about x, then y, then z, about the pivot
+};
+
+/// A keyed rigid motion (a collider's): between keys the translation is linear and
+/// the rotation a slerp; before the first key the first holds, after the last the last holds
+/// unless `loop`, which repeats the keys' span. No keys: still.
+struct MotionDef {
+  std::vector<MotionKey> keys;  ///< times strictly increasing
+  bool loop = false;            ///< repeat from the first key after the last
+  bool has_pivot = false;       ///< rotate about `pivot` rather than the reference point
+  Vec3 pivot = Vec3::Zero();    ///< m, in the frame the definition is written in
+  bool moves() const { return !keys.empty(); }
+};
+
 enum class PinKind : uint8_t {
   grid,    ///< a grid index [col, row] (corner names are grid indices); grids only
   vertex,  ///< a vertex index, 0-based as in the OBJ file; any cloth
@@ -36,9 +54,9 @@ struct Pin {
   int col = 0;  ///< grid: column
   int row = 0;  ///< grid: row
   PinKind kind = PinKind::grid;
-  int32_t vertex = 0;               ///< vertex: its index
-  Vec3 box_min = Vec3::Zero();      ///< m, box: the corner with the smallest coordinates
-  Vec3 box_max = Vec3::Zero();      ///< m, box: the opposite corner
+  int32_t vertex = 0;           ///< vertex: its index
+  Vec3 box_min = Vec3::Zero();  ///< m, box: the corner with the smallest coordinates
+  Vec3 box_max = Vec3::Zero();  ///< m, box: the opposite corner
   static Pin at_vertex(int32_t v) {
     Pin p;
     p.kind = PinKind::vertex;
@@ -124,15 +142,24 @@ struct ForcesDef {
   WindDef wind;
 };
 
-enum class ColliderType : uint8_t { sphere, plane };
+enum class ColliderType : uint8_t { sphere, plane, capsule, box, mesh };
 
 struct ColliderDef {
   ColliderType type = ColliderType::sphere;
-  Vec3 center{0.0, 0.0, 0.0};  ///< m, sphere centre, or a point on the plane
-  double radius = 0.5;         ///< m, sphere only, > 0
-  Vec3 normal{0.0, 1.0, 0.0};  ///< plane only: the side the cloth stays on; normalised on use
-  double friction = 0.3;       ///< Coulomb coefficient, >= 0
-  double thickness = 0.01;     ///< m, contact offset kept between cloth and surface, >= 0
+  Vec3 center{0.0, 0.0, 0.0};        ///< m, sphere or box centre, or a point on the plane
+  double radius = 0.5;               ///< m, sphere and capsule, > 0
+  Vec3 normal{0.0, 1.0, 0.0};        ///< plane only: the side the cloth stays on; normalised on use
+  Vec3 a{0.0, 0.0, 0.0};             ///< m, capsule: one end of its axis
+  Vec3 b{0.0, 1.0, 0.0};             ///< m, capsule: the other end (≠ a)
+  Vec3 half_extents{0.5, 0.5, 0.5};  ///< m, box: half its size along its own axes, each > 0
+  Vec3 rotate = Vec3::Zero();        ///< degrees, box: about x, then y, then z
+  /// mesh: the triangles as loaded (closed: an inside; open: two-sided), placed by transform
+  std::shared_ptr<const ClothMesh> mesh = nullptr;
+  std::string mesh_file = {};    ///< mesh: where it was read from (messages, scene files)
+  MeshTransform transform = {};  ///< mesh: scale, rotation, translation, as cloth.transform
+  double friction = 0.3;         ///< Coulomb coefficient, >= 0
+  double thickness = 0.01;       ///< m, contact offset kept between cloth and surface, >= 0
+  MotionDef motion = {};         ///< none: the collider stays where it is defined
 };
 
 enum class Method : uint8_t {

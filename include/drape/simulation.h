@@ -21,6 +21,7 @@ class Solver;
 class LongRange;
 class SelfCollision;
 struct World;
+class ColliderSet;
 
 /// Figures that describe the state; cheap enough to take once per frame.
 struct Diagnostics {
@@ -114,7 +115,8 @@ class Simulation {
   const SceneDef& def() const { return def_; }
   const ClothModel& model() const { return model_; }
   const ClothState& state() const { return state_; }
-  const std::vector<Collider>& colliders() const { return colliders_; }
+  /// The colliders where they are now (moving ones at the present time).
+  const std::vector<Collider>& colliders() const;
   Diagnostics diagnostics() const;
   MemoryUse memory() const;
   /// With cloth.self_collision on: what it did in the last frame; null when it is off.
@@ -146,7 +148,7 @@ class Simulation {
   SceneDef def_;
   ClothModel model_;
   ClothState state_;
-  std::vector<Collider> colliders_;
+  std::unique_ptr<ColliderSet> colliders_;
   std::unique_ptr<LongRange> attachments_;  ///< rebuilt when the pins change
   std::unique_ptr<Solver> solver_;
   std::unique_ptr<SelfCollision> self_collision_;  ///< null unless cloth.self_collision is on

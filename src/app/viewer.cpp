@@ -547,11 +547,32 @@ void Viewer::draw_panel() {
       ColliderDef& c = edit_.colliders[i];
       ImGui::PushID(static_cast<int>(i));
       ImGui::Text("%s %zu", to_string(c.type), i + 1);
-      live |= drag3(c.type == ColliderType::sphere ? "centre (m)" : "point (m)", c.center, 0.01f);
-      if (c.type == ColliderType::sphere)
-        live |= slider("radius (m)", c.radius, 0.05, 3.0, "%.2f");
-      else
-        live |= drag3("normal", c.normal, 0.01f);
+      switch (c.type) {
+        case ColliderType::sphere:
+          live |= drag3("centre (m)", c.center, 0.01f);
+          live |= slider("radius (m)", c.radius, 0.05, 3.0, "%.2f");
+          break;
+        case ColliderType::plane:
+          live |= drag3("point (m)", c.center, 0.01f);
+          live |= drag3("normal", c.normal, 0.01f);
+          break;
+        case ColliderType::capsule:
+          live |= drag3("end a (m)", c.a, 0.01f);
+          live |= drag3("end b (m)", c.b, 0.01f);
+          live |= slider("radius (m)", c.radius, 0.05, 3.0, "%.2f");
+          break;
+        case ColliderType::box:
+          live |= drag3("centre (m)", c.center, 0.01f);
+          live |= drag3("half extents (m)", c.half_extents, 0.01f);
+          live |= drag3("rotate (degrees)", c.rotate, 0.5f);
+          break;
+        case ColliderType::mesh:
+          ImGui::TextWrapped("%s", c.mesh_file.c_str());
+          live |= drag3("translate (m)", c.transform.translate, 0.01f);
+          break;
+      }
+      if (c.motion.moves())
+        ImGui::Text("moves: %zu keys%s", c.motion.keys.size(), c.motion.loop ? ", looping" : "");
       live |= slider("friction", c.friction, 0.0, 2.0, "%.2f");
       ImGui::PopID();
     }

@@ -1,6 +1,10 @@
 #include "drape/collider.h"
 
 #include <algorithm>
+#include <limits>
+
+#include "collision/motion.h"
+#include "collision/triangle_shape.h"
 #include "parallel.h"
 
 namespace drape {
@@ -8,11 +12,54 @@ namespace drape {
 Collider make_collider(const ColliderDef& def) {
   Collider c;
   c.type = def.type;
-  c.center = def.center;
-  c.radius = def.radius;
-  c.normal = def.normal.normalized();
   c.friction = def.friction;
   c.thickness = def.thickness;
+  switch (def.type) {
+    case ColliderType::sphere:
+      c.center = def.center;
+      c.radius = def.radius;
+      c.bound_center = c.center;
+      c.bound_radius = c.radius;
+      break;
+    case ColliderType::plane:
+      c.center = def.center;
+      c.normal = def.normal.normalized();
+      c.bound_center = c.center;
+      c.bound_radius = std::numeric_limits<double>::infinity();
+      break;
+    case ColliderType::capsule:
+      c.a = def.a;
+      c.b = def.b;
+      c.radius = def.radius;
+      c.center = 0.5 * (def.a + def.b);
+      c.bound_center = c.center;
+      c.bound_radius = 0.5 * (def.b - def.a).norm() + c.radius;
+      break;
+    case ColliderType::box:
+      c.center = def.center;
+      c.half_extents = def.half_extents;
+      c.rotation = rotation_xyz(def.rotate);
+      c.bound_center = c.center;
+      c.bound_radius = def.half_extents.norm();
+      break;
+    case ColliderType::mesh: {
+      std::vector<Vec3> vertices;
+      if (def.mesh) {
+        vertices.reserve(def.mesh->positions.size());
+        for (const Vec3& p : def.mesh->positions) vertices.push_back(def.transform.apply(p));
+      }
+      auto shape = std::make_shared<const TriangleShape>(
+          std::move(vertices), def.mesh ? def.mesh->triangles : std::vector<Triangle>{});
+      c.center = def.transform.translate;
+      // The sphere about the box's centre through the farthest vertex: tighter than the box's
+      // half-diagonal (a sphere mesh's own radius rather than √3 times it).
+      c.bound_center = 0.5 * (shape->lo() + shape->hi());
+      for (const Vec3& v : shape->vertices())
+        c.bound_radius = std::max(c.bound_radius, (v - c.bound_center).norm());
+      c.mesh = std::move(shape);
+      break;
+    }
+  }
   return c;
 }
 
@@ -21,6 +68,57 @@ std::vector<Collider> make_colliders(const std::vector<ColliderDef>& defs) {
   out.reserve(defs.size());
   for (const ColliderDef& d : defs) out.push_back(make_collider(d));
   return out;
+}
+
+double shape_distance(const Collider& c, const Vec3& x, Vec3& normal) {
+  switch (c.type) {
+    case ColliderType::capsule: {
+      // The closest point of the axis a–b (a = b: a sphere).
+      const Vec3 ab = c.b - c.a;
+      const double len2 = ab.squaredNorm();
+      const double s = len2 > 0.0 ? std::clamp((x - c.a).dot(ab) / len2, 0.0, 1.0) : 0.0;
+      const Vec3 d = x - (c.a + s * ab);
+      const double len = d.norm();
+      if (len > 0.0) {
+        normal = d / len;
+      } else {  // on the axis: any direction across it
+        normal = len2 > 0.0 ? Vec3(ab.unitOrthogonal()) : Vec3::UnitY();
+      }
+      return len - c.radius;
+    }
+    case ColliderType::box: {
+      // In the box's frame: outside, the distance to the nearest point of the box; inside, to
+      // the nearest face (Quílez's box distance, with its gradient as the normal).
+      const Vec3 p = c.rotation.transpose() * (x - c.center);
+      const Vec3 q = p.cwiseAbs() - c.half_extents;
+      const Vec3 sign = p.unaryExpr([](double v) { return v < 0.0 ? -1.0 : 1.0; });
+      if ((q.array() > 0.0).any()) {
+        const Vec3 out = q.cwiseMax(Vec3::Zero());
+        const double dist = out.norm();
+        normal = c.rotation * out.cwiseProduct(sign) / dist;
+        return dist;
+      }
+      int axis = 0;
+      const double dist = q.maxCoeff(&axis);
+      normal = sign[axis] * c.rotation.col(axis);
+      return dist;
+    }
+    case ColliderType::mesh: {
+      if (!c.mesh) {
+        normal = Vec3::UnitY();
+        return std::numeric_limits<double>::infinity();
+      }
+      const Mat3& R = c.pose.rotation;
+      Vec3 n;
+      const double dist = c.mesh->signed_distance(R.transpose() * (x - c.pose.translation), n);
+      normal = R * n;
+      return dist;
+    }
+    case ColliderType::sphere:
+    case ColliderType::plane:
+      break;
+  }
+  return signed_distance(c, x, normal);
 }
 
 void resolve_contacts(const std::vector<Collider>& colliders, ClothState& state) {

@@ -45,7 +45,19 @@ const char* to_string(WindModel m) {
   return m == WindModel::seed ? "seed" : "aero";
 }
 const char* to_string(ColliderType t) {
-  return t == ColliderType::sphere ? "sphere" : "plane";
+  switch (t) {
+    case ColliderType::sphere:
+      return "sphere";
+    case ColliderType::plane:
+      return "plane";
+    case ColliderType::capsule:
+      return "capsule";
+    case ColliderType::box:
+      return "box";
+    case ColliderType::mesh:
+      return "mesh";
+  }
+  return "?";
 }
 const char* to_string(Orientation o) {
   return o == Orientation::vertical ? "vertical" : "horizontal";
@@ -90,6 +102,21 @@ void range(double x, double lo, double hi, const std::string& path, bool lo_open
 void nonnegative(double x, const std::string& path) {
   finite(x, path);
   require(x >= 0.0, path, "is " + num(x) + ", must not be negative");
+}
+
+// Key times strictly increasing, every value finite, the pivot too.
+void check_motion(const MotionDef& m, const std::string& path) {
+  for (size_t k = 0; k < m.keys.size(); ++k) {
+    const std::string at = path + ".keys[" + std::to_string(k) + "]";
+    finite(m.keys[k].t, at + ".t");
+    finite(m.keys[k].translate, at + ".translate");
+    finite(m.keys[k].rotate, at + ".rotate");
+    if (k > 0)
+      require(m.keys[k].t > m.keys[k - 1].t, at + ".t",
+              "is " + num(m.keys[k].t) + ", not after the previous key's " + num(m.keys[k - 1].t) +
+                  "; key times must increase");
+  }
+  if (m.has_pivot) finite(m.pivot, path + ".pivot");
 }
 
 void check_springs(const SpringParams& p, const std::string& path) {
@@ -198,14 +225,51 @@ void check(const SceneDef& def) {
   for (size_t k = 0; k < def.colliders.size(); ++k) {
     const ColliderDef& col = def.colliders[k];
     const std::string path = "colliders[" + std::to_string(k) + "]";
-    finite(col.center, path + (col.type == ColliderType::sphere ? ".center" : ".point"));
-    if (col.type == ColliderType::sphere) range(col.radius, 0.0, 1e6, path + ".radius", true);
-    if (col.type == ColliderType::plane) {
-      finite(col.normal, path + ".normal");
-      require(col.normal.norm() > 0.0, path + ".normal", "must not be zero");
+    switch (col.type) {
+      case ColliderType::sphere:
+        finite(col.center, path + ".center");
+        range(col.radius, 0.0, 1e6, path + ".radius", true);
+        break;
+      case ColliderType::plane:
+        finite(col.center, path + ".point");
+        finite(col.normal, path + ".normal");
+        require(col.normal.norm() > 0.0, path + ".normal", "must not be zero");
+        break;
+      case ColliderType::capsule:
+        // a = b is accepted: the capsule is then a sphere of its radius.
+        finite(col.a, path + ".a");
+        finite(col.b, path + ".b");
+        range(col.radius, 0.0, 1e6, path + ".radius", true);
+        break;
+      case ColliderType::box:
+        finite(col.center, path + ".center");
+        finite(col.rotate, path + ".rotate");
+        finite(col.half_extents, path + ".half_extents");
+        for (int a = 0; a < 3; ++a)
+          require(col.half_extents[a] > 0.0 && col.half_extents[a] <= 1e6,
+                  path + ".half_extents[" + std::to_string(a) + "]",
+                  "is " + num(col.half_extents[a]) + ", must be in (0, 1e6]");
+        break;
+      case ColliderType::mesh:
+        require(col.mesh != nullptr, path + ".file", "missing; expected the path of an OBJ file");
+        finite(col.transform.translate, path + ".transform.translate");
+        finite(col.transform.rotate, path + ".transform.rotate");
+        finite(col.transform.scale, path + ".transform.scale");
+        for (int a = 0; a < 3; ++a)
+          require(col.transform.scale[a] != 0.0, path + ".transform.scale",
+                  "must not be zero along any axis");
+        require(!col.mesh->triangles.empty(), path + ".file",
+                "(" + col.mesh_file + ") has no faces; a collider needs triangles");
+        for (const Triangle& t : col.mesh->triangles)
+          for (const int32_t v : t)
+            require(v >= 0 && size_t(v) < col.mesh->positions.size(), path + ".file",
+                    "a triangle's vertex index " + std::to_string(v) + " is out of range");
+        for (const Vec3& v : col.mesh->positions) finite(v, path + ".file");
+        break;
     }
     nonnegative(col.friction, path + ".friction");
     nonnegative(col.thickness, path + ".thickness");
+    check_motion(col.motion, path + ".motion");
   }
 
   const SolverDef& s = def.solver;

@@ -6,6 +6,7 @@
 #include <limits>
 #include <string>
 
+#include "collision/collider_set.h"
 #include "collision/self_collision.h"
 #include "drape/error.h"
 #include "forces.h"
@@ -36,15 +37,15 @@ void check_starts_outside(const std::vector<Collider>& colliders, double perturb
       if (d > depth) depth = d, deepest = p;
     }
     if (inside == 0) continue;
-    const bool sphere = c.type == ColliderType::sphere;
+    const bool plane = c.type == ColliderType::plane;
     char problem[320];
     std::snprintf(problem, sizeof problem,
-                  "the cloth starts %s: %lld of its %zu particles do, the deepest (at %.3g, %.3g, "
-                  "%.3g) %.3g m %s; move the cloth or the %s%s",
-                  sphere ? "inside this sphere" : "behind this plane",
-                  static_cast<long long>(inside), x.size(), deepest.x(), deepest.y(), deepest.z(),
-                  depth, sphere ? "inside its surface" : "behind it", to_string(c.type),
-                  sphere ? "" : ", or turn its normal to the cloth's side");
+                  "the cloth starts %s this %s: %lld of its %zu particles do, the deepest (at "
+                  "%.3g, %.3g, %.3g) %.3g m %s; move the cloth or the %s%s",
+                  plane ? "behind" : "inside", to_string(c.type), static_cast<long long>(inside),
+                  x.size(), deepest.x(), deepest.y(), deepest.z(), depth,
+                  plane ? "behind it" : "inside its surface", to_string(c.type),
+                  plane ? ", or turn its normal to the cloth's side" : "");
     throw InputError("colliders[" + std::to_string(k) + "]", problem);
   }
 }
@@ -62,9 +63,9 @@ Simulation::Simulation(const SceneDef& def)
     hi = hi.cwiseMax(x);
   }
   diagonal_ = (hi - lo).norm();
-  colliders_ = make_colliders(def_.colliders);
+  colliders_ = std::make_unique<ColliderSet>(def_.colliders, 0.0);
   // The perturbation moved the start by up to this much (cloth.perturbation is relative).
-  check_starts_outside(colliders_, def_.cloth.perturbation * model_.mean_edge, state_.x);
+  check_starts_outside(colliders_->now(), def_.cloth.perturbation * model_.mean_edge, state_.x);
   solver_ = make_solver(def_.solver, model_);
   scratch_.reserve(model_.size());
   attachments_->prepare(model_, state_, def_.cloth.long_range);
@@ -109,8 +110,12 @@ const AutoChoice* Simulation::auto_choice() const {
   return solver_->auto_choice();
 }
 
+const std::vector<Collider>& Simulation::colliders() const {
+  return colliders_->now();
+}
+
 void Simulation::prepare_solver() {
-  World world{model_, state_, def_.forces, colliders_, time(), *attachments_};
+  World world{model_, state_, def_.forces, colliders_->contact(), time(), *attachments_};
   solver_->prepare(world, def_.solver);
 }
 
@@ -161,7 +166,7 @@ void Simulation::step_with_self_collision(World& world) {
     world.time = time() + dt * part / parts;
     solver_->step_frame(world, dt / parts);
     // Even a part cut short is checked: the next frame starts from it.
-    if (self_collision_->resolve(model_, frame_start_, colliders_, dt / parts, state_))
+    if (self_collision_->resolve(model_, frame_start_, colliders_->contact(), dt / parts, state_))
       solver_->state_changed();
     if (part == 0) frame_motion_ = self_collision_->relative_motion(frame_start_, state_.x) * parts;
   }
@@ -169,7 +174,8 @@ void Simulation::step_with_self_collision(World& world) {
 
 bool Simulation::step() {
   if (diverged()) return false;
-  World world{model_, state_, def_.forces, colliders_, time(), *attachments_, stop_};
+  World world{model_, state_, def_.forces, colliders_->contact(), time(), *attachments_, stop_};
+  if (colliders_->moves()) world.moving = colliders_.get();
   if (self_collision_) {
     step_with_self_collision(world);
   } else {
@@ -178,6 +184,10 @@ bool Simulation::step() {
   stopped_ = world.cut_short;
   if (stopped_) return true;  // part of a frame: not counted, and its energy is not watched
   ++frame_;
+  // A moving collider does work on the cloth that the watch below cannot count: while one
+  // moves, its budget starts again from every frame's state (as while the hand holds a
+  // particle), so only a blow-up within one frame is caught then.
+  const bool pushed = colliders_->settle(time());
 
   // Divergence watch. The energy now may not exceed what the start state (kinetic, spring and
   // gravity energy at the last rebase), gravity's work since and the wind's work (bounded by
@@ -204,9 +214,9 @@ bool Simulation::step() {
         method();
   } else {
     if (def_.forces.wind.strength > 0.0)
-      external_work_ +=
-          def_.solver.dt * forces::wind_power(model_, state_, def_.forces.wind, time(), scratch_);
-    if (grabbed_ >= 0) rebase_energy();
+      external_work_ += def_.solver.dt * forces::wind_power(model_, state_, def_.forces.wind,
+                                                            time(), scratch_);
+    if (grabbed_ >= 0 || pushed) rebase_energy();
     const double mass = def_.cloth.mass;
     const double tolerance = 0.5 * mass + mass * def_.forces.gravity.norm() * diagonal_;
     double energy = watch.kinetic;
@@ -267,8 +277,9 @@ MemoryUse Simulation::memory() const {
   MemoryUse m;
   m.state = heap_bytes(state_);
   m.model = heap_bytes(model_);
-  m.workspace = solver_->workspace_bytes() + heap_bytes(scratch_, colliders_, frame_start_) +
-                attachments_->bytes() + (self_collision_ ? self_collision_->bytes() : 0);
+  m.workspace = solver_->workspace_bytes() + heap_bytes(scratch_, frame_start_) +
+                colliders_->bytes() + attachments_->bytes() +
+                (self_collision_ ? self_collision_->bytes() : 0);
   return m;
 }
 
@@ -291,7 +302,7 @@ Diagnostics Simulation::diagnostics() const {
     std::nth_element(strains.begin(), strains.begin() + k, strains.end());
     d.p99_strain = strains[k];
   }
-  d.max_penetration = max_penetration(colliders_, state_.x);
+  d.max_penetration = max_penetration(colliders_->now(), state_.x);
   for (int32_t i = 0; i < model_.size(); ++i) {
     if (state_.pinned[i])
       d.pinned_drift = std::max(d.pinned_drift, (state_.x[i] - state_.anchor[i]).norm());
@@ -346,7 +357,7 @@ bool Simulation::reconfigure(const SceneDef& def) {
     model_.mass[i] = m;
     if (state_.inv_mass[i] != 0.0) state_.inv_mass[i] = 1.0 / m;
   }
-  colliders_ = make_colliders(def_.colliders);
+  colliders_ = std::make_unique<ColliderSet>(def_.colliders, time());
   if (def.solver.method != old.solver.method || def.solver.precision != old.solver.precision)
     solver_ = make_solver(def_.solver, model_);
   if (a.long_range.enabled != b.long_range.enabled || a.long_range.slack != b.long_range.slack)

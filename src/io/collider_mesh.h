@@ -1,5 +1,6 @@
-// Colliders as triangle meshes, for exports that show them beside the cloth: a sphere as a UV
-// sphere, a plane as a large square around the cloth.
+// Colliders as triangle meshes, for exports and the viewer: a sphere as a UV sphere, a plane as
+// a large square around the cloth, a capsule as a sphere's halves joined by a cylinder, a box as
+// its six faces, a mesh as its triangles; each where its pose puts it now.
 #pragma once
 
 #include <array>
@@ -21,5 +22,9 @@ struct SurfaceMesh {
 /// cloth's centre) projects onto it. The surface drawn is the collider's, without thickness.
 SurfaceMesh collider_mesh(const Collider& c, const Vec3& focus, double extent, int segments = 32,
                           int rings = 16);
+
+/// A mesh collider's triangles (empty for other types), posed (where it is now) or in the frame
+/// of its definition (`posed` false: for a renderer that places it with c.pose).
+SurfaceMesh triangle_mesh(const Collider& c, bool posed);
 
 }  // namespace drape::io

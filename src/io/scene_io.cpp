@@ -166,47 +166,50 @@ void read_springs(Reader& springs, const std::string& kind, SpringParams& p) {
   }
 }
 
+// One pin: a corner name, [col, row], {"vertex": i} or {"box": {...}}.
+Pin read_pin(const json& p, const std::string& at) {
+  if (p.is_string()) {
+    const std::string name = p.get<std::string>();
+    if (name == "top-left") return {0, 0};
+    if (name == "top-right") return {-1, 0};
+    if (name == "bottom-left") return {0, -1};
+    if (name == "bottom-right") return {-1, -1};
+    fail(at, "unknown corner \"" + shown(name) +
+                 "\"; expected \"top-left\", \"top-right\", \"bottom-left\", "
+                 "\"bottom-right\", a grid index [col, row], {\"vertex\": i} or {\"box\": "
+                 "{\"min\": [x, y, z], \"max\": [x, y, z]}}");
+  }
+  if (p.is_object()) {
+    Reader r(p, at);
+    const json* vertex = r.find("vertex");
+    const json* box = r.find("box");
+    if ((vertex != nullptr) == (box != nullptr))
+      fail(at, "expected {\"vertex\": i} or {\"box\": {\"min\": [x, y, z], \"max\": [x, y, z]}}");
+    Pin pin;
+    if (vertex) {
+      pin = Pin::at_vertex(Reader::as_integer(*vertex, at + ".vertex"));
+    } else {
+      Reader b(*box, at + ".box");
+      Vec3 lo = Vec3::Zero(), hi = Vec3::Zero();
+      if (!b.find("min")) fail(at + ".box.min", "missing");
+      if (!b.find("max")) fail(at + ".box.max", "missing");
+      b.vec3("min", lo);
+      b.vec3("max", hi);
+      b.finish();
+      pin = Pin::in_box(lo, hi);
+    }
+    r.finish();
+    return pin;
+  }
+  Reader::pair(p, at, "integers [col, row], a corner name, {\"vertex\": i} or {\"box\": ...}");
+  return {Reader::as_integer(p[0], at + "[0]"), Reader::as_integer(p[1], at + "[1]")};
+}
+
 std::vector<Pin> read_pins(const json& v, const std::string& path) {
   if (!v.is_array()) fail(path, "expected an array of pins, got " + type_name(v));
   std::vector<Pin> pins;
-  for (size_t k = 0; k < v.size(); ++k) {
-    const std::string at = path + "[" + std::to_string(k) + "]";
-    const json& p = v[k];
-    if (p.is_string()) {
-      const std::string name = p.get<std::string>();
-      if (name == "top-left") pins.push_back({0, 0});
-      else if (name == "top-right") pins.push_back({-1, 0});
-      else if (name == "bottom-left") pins.push_back({0, -1});
-      else if (name == "bottom-right") pins.push_back({-1, -1});
-      else
-        fail(at, "unknown corner \"" + shown(name) +
-                     "\"; expected \"top-left\", \"top-right\", \"bottom-left\", "
-                     "\"bottom-right\", a grid index [col, row], {\"vertex\": i} or {\"box\": "
-                     "{\"min\": [x, y, z], \"max\": [x, y, z]}}");
-    } else if (p.is_object()) {
-      Reader r(p, at);
-      const json* vertex = r.find("vertex");
-      const json* box = r.find("box");
-      if ((vertex != nullptr) == (box != nullptr))
-        fail(at, "expected {\"vertex\": i} or {\"box\": {\"min\": [x, y, z], \"max\": [x, y, z]}}");
-      if (vertex) {
-        pins.push_back(Pin::at_vertex(Reader::as_integer(*vertex, at + ".vertex")));
-      } else {
-        Reader b(*box, at + ".box");
-        Vec3 lo = Vec3::Zero(), hi = Vec3::Zero();
-        if (!b.find("min")) fail(at + ".box.min", "missing");
-        if (!b.find("max")) fail(at + ".box.max", "missing");
-        b.vec3("min", lo);
-        b.vec3("max", hi);
-        b.finish();
-        pins.push_back(Pin::in_box(lo, hi));
-      }
-      r.finish();
-    } else {
-      Reader::pair(p, at, "integers [col, row], a corner name, {\"vertex\": i} or {\"box\": ...}");
-      pins.push_back({Reader::as_integer(p[0], at + "[0]"), Reader::as_integer(p[1], at + "[1]")});
-    }
-  }
+  for (size_t k = 0; k < v.size(); ++k)
+    pins.push_back(read_pin(v[k], path + "[" + std::to_string(k) + "]"));
   return pins;
 }
 
@@ -230,37 +233,125 @@ MeshTransform read_transform(const json& v, const std::string& path) {
 
 // The mesh file named at cloth.mesh, found in `folder` when relative: read and kept whole in the
 // definition, with the path it was found at (lexically normal) for messages and scene files.
-void read_mesh(const json& v, const std::string& folder, ClothDef& c) {
+// motion: {"keys": [{"t": s, "translate": [x, y, z], "rotate": [rx, ry, rz]}, ...],
+// "loop": false, "pivot": [x, y, z]}.
+MotionDef read_motion(const json& v, const std::string& path) {
+  Reader r(v, path);
+  MotionDef m;
+  const json* keys = r.find("keys");
+  if (!keys)
+    fail(path + ".keys",
+         "missing; expected an array of {\"t\": s, \"translate\": [x, y, z], "
+         "\"rotate\": [rx, ry, rz]}");
+  if (!keys->is_array() || keys->empty())
+    fail(path + ".keys", "expected a non-empty array of keys, got " + type_name(*keys));
+  for (size_t k = 0; k < keys->size(); ++k) {
+    const std::string at = path + ".keys[" + std::to_string(k) + "]";
+    Reader kr((*keys)[k], at);
+    MotionKey key;
+    if (!kr.find("t")) fail(at + ".t", "missing; expected the key's time in s");
+    kr.number("t", key.t);
+    kr.vec3("translate", key.translate);
+    kr.vec3("rotate", key.rotate);
+    kr.finish();
+    m.keys.push_back(key);
+  }
+  if (const json* l = r.find("loop")) {
+    if (!l->is_boolean()) fail(path + ".loop", "expected true or false, got " + type_name(*l));
+    m.loop = l->get<bool>();
+  }
+  if (const json* p = r.find("pivot")) {
+    m.has_pivot = true;
+    m.pivot = Reader::as_vec3(*p, path + ".pivot");
+  }
+  r.finish();
+  return m;
+}
+
+// An OBJ file named at `path`, found in `folder` when relative: the mesh and the path it was
+// found at (lexically normal) for messages and scene files.
+std::shared_ptr<const ClothMesh> read_mesh_file(const json& v, const std::string& path,
+                                                const std::string& folder, std::string& found) {
   namespace fs = std::filesystem;
-  if (!v.is_string()) fail("cloth.mesh", "expected the path of an OBJ file, got " + type_name(v));
+  if (!v.is_string()) fail(path, "expected the path of an OBJ file, got " + type_name(v));
   const std::string name = v.get<std::string>();
-  if (name.empty()) fail("cloth.mesh", "is empty; expected the path of an OBJ file");
+  if (name.empty()) fail(path, "is empty; expected the path of an OBJ file");
   fs::path file(name);
   if (file.is_relative() && !folder.empty()) file = fs::path(folder) / file;
-  c.mesh_file = file.lexically_normal().string();
+  found = file.lexically_normal().string();
   try {
-    c.mesh = std::make_shared<const ClothMesh>(read_obj(c.mesh_file));
+    return std::make_shared<const ClothMesh>(read_obj(found));
   } catch (const InputError& e) {
-    fail("cloth.mesh (" + c.mesh_file + ")", e.problem());
+    fail(path + " (" + found + ")", e.problem());
   }
 }
 
-ColliderDef read_collider(const json& v, const std::string& path) {
+// The mesh file named at cloth.mesh, kept whole in the definition.
+void read_mesh(const json& v, const std::string& folder, ClothDef& c) {
+  c.mesh = read_mesh_file(v, "cloth.mesh", folder, c.mesh_file);
+}
+
+ColliderDef read_collider(const json& v, const std::string& path, const std::string& folder) {
   Reader r(v, path);
   ColliderDef c;
   const json* type = r.find("type");
-  if (!type) fail(r.at("type"), "missing; expected \"sphere\" or \"plane\"");
-  r.choice("type", c.type, {ColliderType::sphere, ColliderType::plane});
-  if (c.type == ColliderType::sphere) {
-    r.vec3("center", c.center);
-    r.number("radius", c.radius);
-  } else {
-    c.center = Vec3::Zero();
-    r.vec3("point", c.center);
-    r.vec3("normal", c.normal);
+  if (!type)
+    fail(r.at("type"), "missing; expected \"sphere\", \"plane\", \"capsule\", \"box\" or \"mesh\"");
+  if (type->is_string()) {
+    // An unknown type: name the nearest (the key after it would be unknown anyway).
+    const std::string name = type->get<std::string>();
+    const ColliderType all[] = {ColliderType::sphere, ColliderType::plane, ColliderType::capsule,
+                                ColliderType::box, ColliderType::mesh};
+    bool known = false;
+    std::string best, names;
+    size_t best_distance = std::numeric_limits<size_t>::max();
+    for (ColliderType t : all) {
+      known = known || name == to_string(t);
+      const size_t d = edit_distance(name, to_string(t));
+      if (d < best_distance) best_distance = d, best = to_string(t);
+      names += std::string(names.empty() ? "" : ", ") + "\"" + to_string(t) + "\"";
+    }
+    if (!known)
+      fail(r.at("type"), "unknown value \"" + shown(name) + "\"" +
+                             (best_distance <= std::max<size_t>(2, best.size() / 3)
+                                  ? "; did you mean \"" + best + "\"?"
+                                  : "") +
+                             " Expected one of " + names);
+  }
+  r.choice("type", c.type,
+           {ColliderType::sphere, ColliderType::plane, ColliderType::capsule, ColliderType::box,
+            ColliderType::mesh});
+  switch (c.type) {
+    case ColliderType::sphere:
+      r.vec3("center", c.center);
+      r.number("radius", c.radius);
+      break;
+    case ColliderType::plane:
+      c.center = Vec3::Zero();
+      r.vec3("point", c.center);
+      r.vec3("normal", c.normal);
+      break;
+    case ColliderType::capsule:
+      r.vec3("a", c.a);
+      r.vec3("b", c.b);
+      r.number("radius", c.radius);
+      break;
+    case ColliderType::box:
+      r.vec3("center", c.center);
+      r.vec3("half_extents", c.half_extents);
+      r.vec3("rotate", c.rotate);
+      break;
+    case ColliderType::mesh: {
+      const json* file = r.find("file");
+      if (!file) fail(r.at("file"), "missing; expected the path of an OBJ file");
+      c.mesh = read_mesh_file(*file, r.at("file"), folder, c.mesh_file);
+      if (const json* t = r.find("transform")) c.transform = read_transform(*t, r.at("transform"));
+      break;
+    }
   }
   r.number("friction", c.friction);
   r.number("thickness", c.thickness);
+  if (const json* m = r.find("motion")) c.motion = read_motion(*m, r.at("motion"));
   r.finish();
   return c;
 }
@@ -428,7 +519,8 @@ SceneDef parse_scene(const json& j, const std::string& source, const std::string
     if (const json* cj = top.find("colliders")) {
       if (!cj->is_array()) fail("colliders", "expected an array, got " + type_name(*cj));
       for (size_t k = 0; k < cj->size(); ++k)
-        def.colliders.push_back(read_collider((*cj)[k], "colliders[" + std::to_string(k) + "]"));
+        def.colliders.push_back(
+            read_collider((*cj)[k], "colliders[" + std::to_string(k) + "]", folder));
     }
     if (const json* sj = top.find("solver")) {
       Reader r(*sj, "solver");
@@ -531,26 +623,60 @@ json to_json(const SceneDef& d) {
   auto springs = [](const SpringParams& p) {
     return json{{"stiffness", p.stiffness}, {"damping", p.damping}};
   };
+  auto motion = [&](const MotionDef& m) {
+    json keys = json::array();
+    for (const MotionKey& k : m.keys)
+      keys.push_back({{"t", k.t}, {"translate", v3(k.translate)}, {"rotate", v3(k.rotate)}});
+    json o{{"keys", keys}, {"loop", m.loop}};
+    if (m.has_pivot) o["pivot"] = v3(m.pivot);
+    return o;
+  };
   json pins = json::array();
   for (const Pin& p : d.cloth.pins) {
+    json pin;
     switch (p.kind) {
-      case PinKind::grid: pins.push_back({p.col, p.row}); break;
-      case PinKind::vertex: pins.push_back(json{{"vertex", p.vertex}}); break;
+      case PinKind::grid:
+        pin = json::array({p.col, p.row});
+        break;
+      case PinKind::vertex:
+        pin = json{{"vertex", p.vertex}};
+        break;
       case PinKind::box:
-        pins.push_back(json{{"box", json{{"min", v3(p.box_min)}, {"max", v3(p.box_max)}}}});
+        pin = json{{"box", json{{"min", v3(p.box_min)}, {"max", v3(p.box_max)}}}};
         break;
     }
+    pins.push_back(pin);
   }
   json colliders = json::array();
   for (const ColliderDef& c : d.colliders) {
     json o{{"type", to_string(c.type)}, {"friction", c.friction}, {"thickness", c.thickness}};
-    if (c.type == ColliderType::sphere) {
-      o["center"] = v3(c.center);
-      o["radius"] = c.radius;
-    } else {
-      o["point"] = v3(c.center);
-      o["normal"] = v3(c.normal);
+    switch (c.type) {
+      case ColliderType::sphere:
+        o["center"] = v3(c.center);
+        o["radius"] = c.radius;
+        break;
+      case ColliderType::plane:
+        o["point"] = v3(c.center);
+        o["normal"] = v3(c.normal);
+        break;
+      case ColliderType::capsule:
+        o["a"] = v3(c.a);
+        o["b"] = v3(c.b);
+        o["radius"] = c.radius;
+        break;
+      case ColliderType::box:
+        o["center"] = v3(c.center);
+        o["half_extents"] = v3(c.half_extents);
+        o["rotate"] = v3(c.rotate);
+        break;
+      case ColliderType::mesh:
+        o["file"] = c.mesh_file;
+        o["transform"] = {{"translate", v3(c.transform.translate)},
+                          {"rotate", v3(c.transform.rotate)},
+                          {"scale", v3(c.transform.scale)}};
+        break;
     }
+    if (c.motion.moves()) o["motion"] = motion(c.motion);
     colliders.push_back(o);
   }
   const ClothDef& c = d.cloth;

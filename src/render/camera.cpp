@@ -85,9 +85,9 @@ bool scene_bounds(const std::vector<Vec3>& x, const std::vector<Collider>& colli
     hi = hi.cwiseMax(p);
   }
   for (const Collider& c : colliders) {
-    if (c.type != ColliderType::sphere) continue;
-    lo = lo.cwiseMin(c.center - Vec3::Constant(c.radius));
-    hi = hi.cwiseMax(c.center + Vec3::Constant(c.radius));
+    if (c.type == ColliderType::plane || !std::isfinite(c.bound_radius)) continue;
+    lo = lo.cwiseMin(c.bound_center - Vec3::Constant(c.bound_radius));
+    hi = hi.cwiseMax(c.bound_center + Vec3::Constant(c.bound_radius));
   }
   return (lo.array() <= hi.array()).all();
 }

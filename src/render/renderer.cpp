@@ -8,6 +8,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/type_ptr.hpp>
 
+#include "io/collider_mesh.h"
 #include "io/output_file.h"
 #include "stb_image_write.h"
 
@@ -314,11 +315,8 @@ Renderer::Renderer() {
 }
 
 Renderer::~Renderer() {
-  for (Mesh* m : {&cloth_, &sphere_, &ground_}) {
-    const GLuint buffers[] = {m->position, m->normal, m->uv, m->index};
-    glDeleteBuffers(4, buffers);
-    glDeleteVertexArrays(1, &m->vao);
-  }
+  for (Mesh* m : {&cloth_, &sphere_, &ground_, &shape_}) delete_mesh(*m);
+  for (auto& [shape, m] : meshes_) delete_mesh(m);
   glDeleteBuffers(1, &line_vbo_);
   glDeleteVertexArrays(1, &line_vao_);
   glDeleteVertexArrays(1, &empty_vao_);
@@ -376,6 +374,76 @@ void Renderer::draw_lines(const std::vector<float>& data, GLenum mode, const glm
   glDrawArrays(mode, 0, static_cast<GLsizei>(data.size() / 6));
 }
 
+// A capsule, box or mesh collider, lit like a sphere. A mesh's triangles are uploaded once (in
+// the frame of its definition) and placed by its pose; a capsule's or box's few hundred
+// vertices are built where they are now and uploaded each time.
+void Renderer::delete_mesh(Mesh& m) {
+  const GLuint buffers[] = {m.position, m.normal, m.uv, m.index};
+  glDeleteBuffers(4, buffers);
+  glDeleteVertexArrays(1, &m.vao);
+  m = Mesh{};
+}
+
+void Renderer::draw_shape(const Collider& c) {
+  Mesh* mesh = &shape_;
+  glm::mat4 model(1.0f);
+  glm::mat3 normal_matrix(1.0f);
+  auto upload = [](Mesh& m, const io::SurfaceMesh& s) {
+    if (m.vao == 0) {
+      glGenVertexArrays(1, &m.vao);
+      glBindVertexArray(m.vao);
+      glGenBuffers(1, &m.position);
+      glGenBuffers(1, &m.normal);
+      glGenBuffers(1, &m.index);
+      attribute(0, m.position, 3);
+      attribute(1, m.normal, 3);
+    }
+    std::vector<float> p, n;
+    for (size_t k = 0; k < s.position.size(); ++k)
+      for (int d = 0; d < 3; ++d) {
+        p.push_back(static_cast<float>(s.position[k][d]));
+        n.push_back(static_cast<float>(s.normal[k][d]));
+      }
+    std::vector<GLuint> idx;
+    for (const auto& t : s.triangles)
+      idx.insert(idx.end(), {GLuint(t[0]), GLuint(t[1]), GLuint(t[2])});
+    glBindVertexArray(m.vao);
+    glBindBuffer(GL_ARRAY_BUFFER, m.position);
+    glBufferData(GL_ARRAY_BUFFER, p.size() * sizeof(float), p.data(), GL_DYNAMIC_DRAW);
+    glBindBuffer(GL_ARRAY_BUFFER, m.normal);
+    glBufferData(GL_ARRAY_BUFFER, n.size() * sizeof(float), n.data(), GL_DYNAMIC_DRAW);
+    glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, m.index);
+    glBufferData(GL_ELEMENT_ARRAY_BUFFER, idx.size() * sizeof(GLuint), idx.data(), GL_DYNAMIC_DRAW);
+    m.count = static_cast<GLsizei>(idx.size());
+  };
+  if (c.type == ColliderType::mesh) {
+    auto it = std::find_if(meshes_.begin(), meshes_.end(),
+                           [&](const auto& e) { return e.first == c.mesh; });
+    if (it == meshes_.end()) {
+      meshes_.push_back({c.mesh, Mesh{}});
+      it = meshes_.end() - 1;
+      upload(it->second, io::triangle_mesh(c, false));
+    }
+    mesh = &it->second;
+    const Mat3& R = c.pose.rotation;
+    for (int col = 0; col < 3; ++col) {
+      for (int row = 0; row < 3; ++row) {
+        model[col][row] = static_cast<float>(R(row, col));
+        normal_matrix[col][row] = static_cast<float>(R(row, col));
+      }
+      model[3][col] = static_cast<float>(c.pose.translation[col]);
+    }
+  } else {
+    upload(shape_, io::collider_mesh(c, c.center, 1.0));
+  }
+  set(surface_, "u_model", model);
+  set(surface_, "u_normal_matrix", normal_matrix);
+  glUniform1i(loc(surface_, "u_mode"), 1);
+  set(surface_, "u_color", kSphere);
+  glBindVertexArray(mesh->vao);
+  glDrawElements(GL_TRIANGLES, mesh->count, GL_UNSIGNED_INT, nullptr);
+}
+
 void Renderer::draw(const OrbitCamera& camera, const PixelRect& rect, const ClothModel& model,
                     const std::vector<Collider>& colliders, const DrawOptions& options) {
   glViewport(rect.x, rect.y, rect.width, rect.height);
@@ -405,7 +473,17 @@ void Renderer::draw(const OrbitCamera& camera, const PixelRect& rect, const Clot
   set(surface_, "u_eye", eye);
   set(surface_, "u_fog", 0.5f * (kSkyTop + kSkyBottom));
 
-  // Colliders.
+  // Colliders. Mesh colliders no longer drawn (a new scene, a changed definition) let go.
+  for (auto it = meshes_.begin(); it != meshes_.end();) {
+    const bool drawn = std::any_of(colliders.begin(), colliders.end(),
+                                   [&](const Collider& c) { return c.mesh == it->first; });
+    if (drawn) {
+      ++it;
+    } else {
+      delete_mesh(it->second);
+      it = meshes_.erase(it);
+    }
+  }
   for (const Collider& c : colliders) {
     const glm::vec3 centre(c.center.x(), c.center.y(), c.center.z());
     if (c.type == ColliderType::sphere) {
@@ -417,6 +495,8 @@ void Renderer::draw(const OrbitCamera& camera, const PixelRect& rect, const Clot
       set(surface_, "u_color", kSphere);
       glBindVertexArray(sphere_.vao);
       glDrawElements(GL_TRIANGLES, sphere_.count, GL_UNSIGNED_INT, nullptr);
+    } else if (c.type != ColliderType::plane) {
+      draw_shape(c);
     } else {
       const glm::vec3 n = glm::normalize(glm::vec3(c.normal.x(), c.normal.y(), c.normal.z()));
       const glm::vec3 helper = std::abs(n.x) < 0.9f ? glm::vec3(1, 0, 0) : glm::vec3(0, 0, 1);

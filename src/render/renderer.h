@@ -1,12 +1,14 @@
 // Draws a simulation with OpenGL 3.3 core: the cloth as a lit, double-sided mesh (front and
 // back in distinct colours, an optional checker), wireframe, springs coloured by strain,
-// colliders (spheres; planes as a ground grid), pinned and highlighted particles. The same code
-// draws into the viewer's window and into `drape render`'s offscreen framebuffer.
+// colliders (spheres, capsules, boxes, meshes; planes as a ground grid), pinned and highlighted
+// particles. The same code draws into the viewer's window and into `drape render`'s offscreen
+// framebuffer.
 //
 // Needs a current OpenGL 3.3 core context whose functions libepoxy can load.
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -63,12 +65,17 @@ class Renderer {
   };
   void draw_lines(const std::vector<float>& data, GLenum mode, const glm::mat4& view_proj,
                   float point_size);
+  void draw_shape(const Collider& c);
+  static void delete_mesh(Mesh& m);
 
   GLuint surface_ = 0;     // lit surfaces: cloth, spheres, ground
   GLuint lines_ = 0;       // coloured lines and round points
   GLuint background_ = 0;  // vertical gradient
   GLuint empty_vao_ = 0;
   Mesh cloth_, sphere_, ground_;
+  Mesh shape_;  // the capsule or box drawn last
+  // Mesh colliders' triangles by shape (held, so an address is never reused for another).
+  std::vector<std::pair<std::shared_ptr<const TriangleShape>, Mesh>> meshes_;
   GLuint line_vao_ = 0, line_vbo_ = 0;
   std::vector<float> line_data_;
   // The last uploaded cloth, as floats for the GPU and as positions for the overlays.

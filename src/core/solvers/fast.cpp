@@ -108,7 +108,7 @@ class Fast final : public Solver {
     for (int32_t k = 0; k < free; ++k)
       perm_[k] = llt_.permutationP().size() > 0 ? llt_.permutationP().indices()[k] : k;
 
-    for (auto* v : {&x0_, &y_, &xk_, &xkm1_, &b0_, &rhs_, &force_, &contact_n_})
+    for (auto* v : {&x0_, &y_, &xk_, &xkm1_, &b0_, &rhs_, &force_, &contact_n_, &contact_surface_})
       v->assign(n, Vec3::Zero());
     contact_dvn_.assign(n, 0.0);
     contact_mu_.assign(n, 0.0);
@@ -124,6 +124,7 @@ class Fast final : public Solver {
     const int32_t n = m.size();
     for (int k = 0; k < substeps_; ++k) {
       if (k > 0 && w.stop_here()) break;
+      w.pose_colliders(w.time + k * h_, w.time + (k + 1) * h_);
       inertia(w, w.time + k * h_);
       const double h2 = h_ * h_;
       double omega = 1.0;
@@ -149,8 +150,11 @@ class Fast final : public Solver {
         if (free_[i] < 0) continue;
         s.x[i] = xk_[i];
         s.v[i] = (xk_[i] - x0_[i]) / h_;
-        if (contact_dvn_[i] > 0.0)
-          apply_friction(contact_n_[i], contact_dvn_[i], contact_mu_[i], s.v[i]);
+        if (contact_dvn_[i] > 0.0) {  // on the velocity relative to the surface's
+          Vec3 rel = s.v[i] - contact_surface_[i];
+          apply_friction(contact_n_[i], contact_dvn_[i], contact_mu_[i], rel);
+          s.v[i] = contact_surface_[i] + rel;
+        }
       }
       w.attachments.apply(s, true);
       resolve_contacts(w.colliders, s);
@@ -170,7 +174,7 @@ class Fast final : public Solver {
     const int64_t matrix_bytes = sparse_bytes(A_) + diagonal_.size() * int64_t{sizeof(double)};
     return factor_bytes + matrix_bytes + X_.size() * int64_t{sizeof(double)} +
            heap_bytes(held_, held_now_, free_, perm_, x0_, y_, xk_, xkm1_, b0_, rhs_, force_,
-                      contact_n_, contact_dvn_, contact_mu_);
+                      contact_n_, contact_surface_, contact_dvn_, contact_mu_);
   }
 
  private:
@@ -203,12 +207,14 @@ class Fast final : public Solver {
         held_now_[i] = w.attachments.within_reach(s.x, i, y_[i], reach);
         for (const Collider& col : w.colliders) {
           Vec3 nrm;
+          if (!col.moving && clear_of(col, y_[i], reach)) continue;
           held_now_[i] |= signed_distance(col, y_[i], nrm) - col.thickness < reach;
           const double moved = project_out(col, y_[i], nrm);
           if (moved > 0.0) {
             contact_n_[i] = nrm;
             contact_dvn_[i] = moved / h_;
             contact_mu_[i] = col.friction;
+            contact_surface_[i] = col.surface_velocity(y_[i]);
           }
         }
       }
@@ -352,6 +358,7 @@ class Fast final : public Solver {
   Eigen::Matrix<double, Eigen::Dynamic, 3> X_;
   std::vector<Vec3> x0_, y_, xk_, xkm1_, b0_, rhs_, force_;
   std::vector<Vec3> contact_n_;      // outward normal of the particle's contact
+  std::vector<Vec3> contact_surface_;  // the velocity of the surface it touches (m/s)
   std::vector<double> contact_dvn_;  // its normal velocity change (m/s), 0 = no contact
   std::vector<double> contact_mu_;   // its friction coefficient
 };

@@ -32,7 +32,7 @@ class Implicit final : public Solver {
  public:
   void prepare(const World& w, const SolverDef& def) override {
     const int32_t n = w.model.size();
-    for (auto* v : {&rhs_, &force_, &dv_, &r_, &s_, &c_, &q_, &contact_n_})
+    for (auto* v : {&rhs_, &force_, &dv_, &r_, &s_, &c_, &q_, &contact_n_, &contact_surface_})
       v->assign(n, Vec3::Zero());
     contact_dvn_.assign(n, 0.0);
     contact_mu_.assign(n, 0.0);
@@ -50,6 +50,7 @@ class Implicit final : public Solver {
     const int32_t n = w.model.size();
     for (int k = 0; k < substeps_; ++k) {
       if (k > 0 && w.stop_here()) break;
+      w.pose_colliders(w.time + k * h, w.time + (k + 1) * h);
       assemble(w, h, w.time + k * h);
       last_iterations_ = solve(w.model, s);
       // Newton update with contact friction, then drag (semi-implicit, stable at any h) and
@@ -57,8 +58,11 @@ class Implicit final : public Solver {
 #pragma omp parallel for schedule(static) if (worth_threads(n))
       for (int32_t i = 0; i < n; ++i) {
         s.v[i] += dv_[i];
-        if (contact_dvn_[i] > 0.0)
-          apply_friction(contact_n_[i], contact_dvn_[i], contact_mu_[i], s.v[i]);
+        if (contact_dvn_[i] > 0.0) {  // on the velocity relative to the surface's
+          Vec3 rel = s.v[i] - contact_surface_[i];
+          apply_friction(contact_n_[i], contact_dvn_[i], contact_mu_[i], rel);
+          s.v[i] = contact_surface_[i] + rel;
+        }
       }
       drag_drift_constrain(w, h);
     }
@@ -69,8 +73,8 @@ class Implicit final : public Solver {
     return substeps_;
   }
   int64_t workspace_bytes() const override {
-    return heap_bytes(rhs_, force_, dv_, r_, s_, c_, q_, contact_n_, contact_dvn_, contact_mu_,
-                      block_, diag_, precond_);
+    return heap_bytes(rhs_, force_, dv_, r_, s_, c_, q_, contact_n_, contact_surface_, contact_dvn_,
+                      contact_mu_, block_, diag_, precond_);
   }
 
  private:
@@ -137,28 +141,33 @@ class Implicit final : public Solver {
       Vec3 nrm[2];
       double target[2] = {0.0, 0.0};
       int count = 0;
-      auto consider = [&](const Vec3& n_out, double gap, double mu) {
-        const double t_n = -std::max(gap, 0.0) / h;  // normal velocity that just arrives
+      // `surface`: the velocity of what the particle touches (a moving collider's, else 0).
+      auto consider = [&](const Vec3& n_out, double gap, double mu, const Vec3& surface) {
+        // The normal velocity that just arrives at the surface as it moves.
+        const double t_n = surface.dot(n_out) - std::max(gap, 0.0) / h;
         if (count == 2 || predicted.dot(n_out) >= t_n) return;
         if (count == 0 || contact_dvn_[i] == 0.0) {  // friction: the first collider's
           contact_n_[i] = n_out;
           contact_dvn_[i] = mu > 0.0 ? t_n - predicted.dot(n_out) : 0.0;
           contact_mu_[i] = mu;
+          contact_surface_[i] = surface;
         }
         nrm[count] = n_out;
         target[count] = t_n;
         ++count;
       };
       for (const Collider& col : w.colliders) {
+        // A still surface beyond this substep's travel cannot be met.
+        if (!col.moving && clear_of(col, s.x[i], h * predicted.norm())) continue;
         Vec3 n_out;
         const double gap = signed_distance(col, s.x[i], n_out) - col.thickness;
-        consider(n_out, gap, col.friction);
+        consider(n_out, gap, col.friction, col.surface_velocity(s.x[i]));
       }
       const LongRange& tethers = w.attachments;
       for (int k = 0; k < tethers.tethers() && tethers.pin(i, k) >= 0; ++k) {
         const Vec3 d = s.x[tethers.pin(i, k)] - s.x[i];
         const double len = d.norm();
-        if (len > 0.0) consider(d / len, tethers.limit(i, k) - len, 0.0);
+        if (len > 0.0) consider(d / len, tethers.limit(i, k) - len, 0.0, Vec3::Zero());
       }
       if (count == 0) continue;
       // Filter S = I − e₁e₁ᵀ − e₂e₂ᵀ over an orthonormal basis of the constrained normals, and
@@ -238,6 +247,7 @@ class Implicit final : public Solver {
   double ext_norm2_ = 0.0;
   std::vector<Vec3> rhs_, force_, dv_, r_, s_, c_, q_;
   std::vector<Vec3> contact_n_;      // outward normal of the particle's contact
+  std::vector<Vec3> contact_surface_;  // the velocity of the surface it touches (m/s)
   std::vector<double> contact_dvn_;  // its normal velocity change (m/s), 0 = no contact
   std::vector<double> contact_mu_;   // its friction coefficient
   std::vector<Mat3> block_;          // per spring: h²K + h·C

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "collision/collider_set.h"
 #include "drape/cloth.h"
 #include "drape/collider.h"
 #include "drape/scene.h"
@@ -21,11 +22,21 @@ struct World {
   const ClothModel& model;
   ClothState& state;
   const ForcesDef& forces;
+  /// The colliders posed for the present substep (see pose_colliders), a sweep's poses included.
   const std::vector<Collider>& colliders;
   double time;                  ///< s, at the start of the frame
   const LongRange& attachments;  ///< long-range attachments to apply (cloth.long_range)
   const std::atomic<bool>* stop = nullptr;  ///< when it turns true, the frame stops early
   bool cut_short = false;                   ///< set by the solver that stopped early
+  ColliderSet* moving = nullptr;            ///< the colliders when some move; null when none does
+
+  /// Whether pose_colliders does anything (some collider moves).
+  bool colliders_move() const { return moving != nullptr; }
+  /// Poses the colliders for the substep from t0 to t1 (s): each method calls it at the start
+  /// of every substep, so moving bodies are where they are at that substep's end.
+  void pose_colliders(double t0, double t1) {
+    if (moving) moving->pose(t0, t1);
+  }
 
   /// Called between substeps: whether to stop here, leaving the frame part done (the stop flag
   /// is up). Records that the frame was cut short.

@@ -56,6 +56,7 @@ class Symplectic final : public Solver {
     const bool wind = w.forces.wind.strength > 0.0 && w.forces.wind.coefficient > 0.0;
     for (int k = 0; k < substeps_; ++k) {
       if (k > 0 && w.stop_here()) break;
+      w.pose_colliders(w.time + k * h, w.time + (k + 1) * h);
       // 1. Forces at the start of the substep.
 #pragma omp parallel for schedule(static) if (worth_threads(n))
       for (int32_t i = 0; i < n; ++i) force_[i] = w.model.mass[i] * w.forces.gravity;

@@ -232,6 +232,11 @@ class MeshXpbd final : public Solver {
           stopping_ = w.stop_here();
           if (stopping_) break;
         }
+        if (w.colliders_move()) {
+          // One thread poses them; the barrier that ends `single` shows every thread the poses.
+#pragma omp single
+          w.pose_colliders(w.time + k * h, w.time + (k + 1) * h);
+        }
         particles_.predict(h, drag);
         for (int it = 0; it < iterations_; ++it) {
           if (iterations_ > 1)

@@ -1,0 +1,106 @@
+#include "collision/collider_set.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "collision/motion.h"
+
+namespace drape {
+
+Vec3 reference_point(const ColliderDef& d) {
+  switch (d.type) {
+    case ColliderType::capsule:
+      return 0.5 * (d.a + d.b);
+    case ColliderType::mesh:
+      return d.transform.translate;
+    default:
+      return d.center;
+  }
+}
+
+ColliderSet::ColliderSet(const std::vector<ColliderDef>& defs, double t) : defs_(defs) {
+  rest_ = make_colliders(defs);
+  for (const ColliderDef& d : defs_) {
+    reference_.push_back(reference_point(d));
+    moves_ = moves_ || d.motion.moves();
+  }
+  for (const Collider& c : rest_) {
+    // A pose of a sweep may move the surface by half the collider's thickness across (a
+    // sphere's or capsule's radius, a box's smallest half extent, half a mesh's smallest box
+    // side), and never by less than the thickness kept around it.
+    double across = std::numeric_limits<double>::infinity();
+    if (c.type == ColliderType::sphere || c.type == ColliderType::capsule) across = c.radius;
+    if (c.type == ColliderType::box) across = c.half_extents.minCoeff();
+    if (c.type == ColliderType::mesh) across = 0.5 * c.bound_radius;
+    size_.push_back(std::max(0.5 * across, c.thickness));
+  }
+  now_ = rest_;
+  contact_ = rest_;
+  settled_.assign(rest_.size(), Pose{});
+  if (moves_) contact_.reserve(rest_.size() * kMaxSweep);
+  settle(t);
+}
+
+Collider ColliderSet::posed(size_t k, const Pose& p, const Pose& start, double elapsed) const {
+  Collider c = rest_[k];
+  const Mat3& R = p.rotation;
+  c.pose = p;
+  c.center = p.apply(c.center);
+  c.normal = R * c.normal;
+  c.a = p.apply(c.a);
+  c.b = p.apply(c.b);
+  c.rotation = R * c.rotation;
+  c.bound_center = p.apply(c.bound_center);
+  c.moving = elapsed > 0.0;
+  c.back_rotation = start.rotation * R.transpose();
+  c.back_from = p.translation;
+  c.back_to = start.translation;
+  return c;
+}
+
+bool ColliderSet::settle(double t) {
+  bool moved = false;
+  for (size_t k = 0; k < rest_.size(); ++k) {
+    if (!defs_[k].motion.moves()) continue;
+    const Pose p = pose_at(defs_[k].motion, reference_[k], t);
+    moved = moved || p.rotation != settled_[k].rotation || p.translation != settled_[k].translation;
+    settled_[k] = p;
+    now_[k] = posed(k, p, p, 0.0);
+  }
+  if (moves_) contact_ = now_;
+  return moved;
+}
+
+void ColliderSet::pose(double t0, double t1) {
+  if (!moves_) return;
+  contact_.clear();
+  for (size_t k = 0; k < rest_.size(); ++k) {
+    const MotionDef& m = defs_[k].motion;
+    if (!m.moves()) {
+      contact_.push_back(rest_[k]);
+      continue;
+    }
+    const Pose start = pose_at(m, reference_[k], t0), end = pose_at(m, reference_[k], t1);
+    // How far a point of the surface moves at most: its bounding sphere's centre, plus the
+    // turn times the radius (a sphere turning about its own centre keeps its surface).
+    const Vec3 centre = rest_[k].bound_center;
+    double travel = (end.apply(centre) - start.apply(centre)).norm();
+    if (rest_[k].type != ColliderType::sphere && std::isfinite(rest_[k].bound_radius))
+      travel += Eigen::AngleAxisd(end.rotation * start.rotation.transpose()).angle() *
+                rest_[k].bound_radius;
+    const int pieces = std::clamp(static_cast<int>(std::ceil(travel / size_[k])), 1, kMaxSweep);
+    for (int j = 1; j <= pieces; ++j) {
+      const double t = j == pieces ? t1 : t0 + (t1 - t0) * j / pieces;
+      contact_.push_back(posed(k, j == pieces ? end : pose_at(m, reference_[k], t), start, t - t0));
+      contact_.back().move_time = t - t0;
+    }
+    now_[k] = contact_.back();
+  }
+}
+
+int64_t ColliderSet::bytes() const {
+  return heap_bytes(defs_, rest_, reference_, size_, now_, contact_, settled_);
+}
+
+}  // namespace drape

@@ -1,0 +1,54 @@
+// The scene's colliders over time: each posed by its motion at the end of the present substep
+// (what contacts test against), with a moving one swept through the substep by intermediate
+// poses when it moves farther than about half its size, so that cloth it overtakes is pushed
+// ahead rather than jumped over (a sampled sweep: each pose in turn pushes the particle out).
+#pragma once
+
+#include <vector>
+
+#include "drape/collider.h"
+#include "drape/scene.h"
+
+namespace drape {
+
+class ColliderSet {
+ public:
+  ColliderSet() = default;
+  /// Builds every collider (a mesh's BVH once) and poses them at time t.
+  ColliderSet(const std::vector<ColliderDef>& defs, double t);
+
+  /// Whether any collider moves (else pose() does nothing).
+  bool moves() const { return moves_; }
+  /// Poses the colliders for the substep from t0 to t1 (s): contact() then holds each at t1,
+  /// preceded by its intermediate poses where it sweeps, each knowing its motion since t0.
+  void pose(double t0, double t1);
+  /// Poses them at t, still (between frames: drawing, diagnostics, the next frame's start).
+  /// Returns whether any is elsewhere than at the last settle (it did work on the cloth).
+  bool settle(double t);
+
+  /// What contacts test against this substep (the sweep's poses included).
+  const std::vector<Collider>& contact() const { return contact_; }
+  /// One per definition, where it is now.
+  const std::vector<Collider>& now() const { return now_; }
+  int64_t bytes() const;
+
+  /// The most poses one collider is swept through in a substep.
+  static constexpr int kMaxSweep = 32;
+
+ private:
+  Collider posed(size_t k, const Pose& pose, const Pose& start, double elapsed) const;
+
+  std::vector<ColliderDef> defs_;  ///< their motions (meshes shared with the rest colliders)
+  std::vector<Collider> rest_;     ///< as defined, unmoved
+  std::vector<Vec3> reference_;    ///< each one's point its motion turns about (see MotionDef)
+  std::vector<double> size_;       ///< m, how far it may move in one pose of a sweep
+  std::vector<Collider> now_, contact_;
+  std::vector<Pose> settled_;  ///< each one's pose at the last settle
+  bool moves_ = false;
+};
+
+/// A collider's reference point: sphere and box centre, capsule's middle, plane's point, mesh's
+/// transform translation.
+Vec3 reference_point(const ColliderDef& def);
+
+}  // namespace drape
