@@ -61,9 +61,12 @@ SurfaceMesh capsule(const Collider& c, int segments, int rings) {
   SurfaceMesh m;
   const int half = std::max(1, rings / 2);
   const Vec3 axis = c.b - c.a;
-  const Mat3 R = axis.squaredNorm() > 0.0
-                     ? Eigen::Quaterniond::FromTwoVectors(Vec3::UnitY(), axis).toRotationMatrix()
-                     : Mat3::Identity();
+  // A frame whose y is the axis (any frame for a = b).
+  Mat3 R = Mat3::Identity();
+  if (axis.squaredNorm() > 0.0) {
+    const Vec3 y = axis.normalized(), x = y.unitOrthogonal();
+    R << x, y, x.cross(y);
+  }
   auto add = [&](const Vec3& local, const Vec3& end) {
     m.normal.push_back(R * local);
     m.position.push_back(end + c.radius * m.normal.back());
