@@ -3,6 +3,8 @@
 // apart; determinism; the keys and their errors.
 #include <gtest/gtest.h>
 
+#include <Eigen/Geometry>
+
 #include <algorithm>
 #include <cmath>
 #include <memory>
@@ -110,6 +112,19 @@ TEST_P(SelfCollisionEveryMethod, NoFrameEndsWithCrossingTriangles) {
   }
 }
 
+// The standard stress test: a strip twisted by its two ends turning opposite ways (the
+// shipped twist, small), which without self-collision passes through itself.
+TEST_P(SelfCollisionEveryMethod, ATwistedStripNeverCrossesItself) {
+  SceneDef def = testing_support::with(testing_support::shipped("twist"), GetParam());
+  def.cloth.cols = 24, def.cloth.rows = 8;
+  def.duration = 3.0;
+  Simulation sim(def);
+  for (int64_t f = 0; f < frame_count(def); ++f) {
+    ASSERT_TRUE(sim.step()) << sim.divergence();
+    ASSERT_EQ(brute_force_crossings(sim.model().triangles, sim.state().x), 0) << "frame " << f;
+  }
+}
+
 INSTANTIATE_TEST_SUITE_P(Methods, SelfCollisionEveryMethod,
                          ::testing::ValuesIn(testing_support::kVariants),
                          testing_support::variant_name);
@@ -179,6 +194,60 @@ TEST(SelfCollision, APileComesToRest) {
   for (int64_t f = 0; f < frame_count(def); ++f) ASSERT_TRUE(sim.step()) << sim.divergence();
   EXPECT_LT(sim.diagnostics().kinetic_energy, 0.5 * 1.0 * 0.03 * 0.03);  // 3 cm/s
   EXPECT_EQ(count_self_intersections(sim.model().triangles, sim.state().x), 0);
+}
+
+// A pin with a motion: its particles are where the keyed rotation about their centre puts
+// them, at every frame (here half a turn about x over a second, held after).
+TEST(MovingPins, FollowTheirKeys) {
+  SceneDef def = testing_support::shipped("twist");
+  def.cloth.self_collision.enabled = false;
+  def.duration = 1.5;
+  Simulation sim(def);
+  const std::vector<int32_t> end = pin_particles(def.cloth, sim.model(), 0);
+  std::vector<Vec3> start;
+  Vec3 centre = Vec3::Zero();
+  for (const int32_t i : end) start.push_back(sim.state().x[i]), centre += sim.state().x[i];
+  centre /= static_cast<double>(end.size());
+  const double key_time = def.cloth.pins[0].motion.keys.back().t;
+  const double key_angle = def.cloth.pins[0].motion.keys.back().rotate.x();
+  for (int64_t f = 0; f < frame_count(def); ++f) {
+    ASSERT_TRUE(sim.step()) << sim.divergence();
+    // The keys are evenly spaced and about x alone: the angle grows linearly.
+    const double angle =
+        key_angle * std::min(1.0, sim.time() / key_time) * 3.14159265358979 / 180.0;
+    const Eigen::AngleAxisd turn(angle, Vec3::UnitX());
+    for (size_t j = 0; j < end.size(); ++j)
+      ASSERT_LT((sim.state().x[end[j]] - (centre + turn * (start[j] - centre))).norm(), 1e-9)
+          << "frame " << f;
+  }
+}
+
+TEST(MovingPins, SceneKeys) {
+  const SceneDef def = io::parse_scene(nlohmann::json::parse(R"({"cloth": {"pins": [
+      {"pin": "top-left", "motion": {"keys": [{"t": 0, "translate": [0, 0, 0]},
+                                              {"t": 1, "translate": [0, 1, 0]}]}},
+      {"box": {"min": [0, 1, -1], "max": [1, 3, 1]},
+       "motion": {"keys": [{"t": 0}, {"t": 2, "rotate": [0, 90, 0]}], "pivot": [0, 2, 0]}},
+      "top-right"]}})"),
+                                       "test");
+  ASSERT_EQ(def.cloth.pins.size(), 3u);
+  EXPECT_EQ(def.cloth.pins[0].motion.keys.size(), 2u);
+  EXPECT_EQ(def.cloth.pins[0].kind, PinKind::grid);
+  EXPECT_TRUE(def.cloth.pins[1].motion.has_pivot);
+  EXPECT_FALSE(def.cloth.pins[2].motion.moves());
+  const SceneDef again = io::parse_scene(io::to_json(def), "again");
+  ASSERT_EQ(again.cloth.pins.size(), 3u);
+  EXPECT_EQ(again.cloth.pins[0].motion.keys[1].translate, Vec3(0, 1, 0));
+  EXPECT_EQ(again.cloth.pins[1].motion.pivot, Vec3(0, 2, 0));
+  // Keys whose times do not increase are refused, naming the pin.
+  try {
+    io::parse_scene(nlohmann::json::parse(R"({"cloth": {"pins": [{"pin": "top-left",
+        "motion": {"keys": [{"t": 1}, {"t": 1}]}}]}})"),
+                    "test");
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("cloth.pins[0].motion"), std::string::npos) << e.what();
+  }
 }
 
 TEST(SelfCollision, SameBitsTwiceAndOnOneOrTwoThreads) {

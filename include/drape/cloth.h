@@ -81,13 +81,13 @@ struct ClothModel {
 
 /// What changes while the cloth moves.
 struct ClothState {
-  std::vector<Vec3> x;            ///< m, positions
-  std::vector<Vec3> v;            ///< m/s, velocities
-  std::vector<double> inv_mass;   ///< 1/kg; 0 for a pinned or held particle
-  std::vector<uint8_t> pinned;    ///< 1 where a pin holds the particle at `anchor`
-  std::vector<Vec3> anchor;       ///< m, where each pinned particle is held
-  std::vector<Vec3> normal;       ///< unit, area-weighted vertex normals
-  std::vector<double> area;       ///< m², a third of the adjacent triangles' areas
+  std::vector<Vec3> x;           ///< m, positions
+  std::vector<Vec3> v;           ///< m/s, velocities
+  std::vector<double> inv_mass;  ///< 1/kg; 0 for a pinned or held particle
+  std::vector<uint8_t> pinned;   ///< 1 where a pin holds the particle at `anchor`
+  std::vector<Vec3> anchor;      ///< m, where each pinned particle is held
+  std::vector<Vec3> normal;      ///< unit, area-weighted vertex normals
+  std::vector<double> area;      ///< m², a third of the adjacent triangles' areas
 };
 
 /// Builds the cloth `def` describes: the grid's particles, springs (structural, shear,
@@ -103,6 +103,8 @@ ClothState initial_state(const ClothDef& def, const ClothModel& model);
 /// The particles `def.pins` name on `model`, in increasing order without repeats. Throws
 /// InputError naming the pin ("cloth.pins[k]") when one names no particle.
 std::vector<int32_t> pinned_particles(const ClothDef& def, const ClothModel& model);
+/// The particles pin entry def.pins[k] names, in increasing order. Throws as pinned_particles.
+std::vector<int32_t> pin_particles(const ClothDef& def, const ClothModel& model, size_t k);
 
 /// Recomputes state.normal and state.area from state.x.
 void update_normals(const ClothModel& model, ClothState& state);

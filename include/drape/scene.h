@@ -57,6 +57,9 @@ struct Pin {
   int32_t vertex = 0;           ///< vertex: its index
   Vec3 box_min = Vec3::Zero();  ///< m, box: the corner with the smallest coordinates
   Vec3 box_max = Vec3::Zero();  ///< m, box: the opposite corner
+  /// Keyed motion of the pinned particles, about their centre at the start (or motion.pivot);
+  /// none: they stay where they start
+  MotionDef motion = {};
   static Pin at_vertex(int32_t v) {
     Pin p;
     p.kind = PinKind::vertex;

@@ -52,9 +52,9 @@ struct AutoChoice {
 
 /// What self-collision did in the last frame (cloth.self_collision).
 struct SelfCollisionReport {
-  int64_t contacts = 0;        ///< vertex–triangle and edge–edge pairs found close or crossed
-  int64_t crossings = 0;       ///< crossing pairs after the contact passes
-  int64_t zone_vertices = 0;   ///< vertices moved rigidly in impact zones
+  int64_t contacts = 0;         ///< vertex–triangle and edge–edge pairs found close or crossed
+  int64_t crossings = 0;        ///< crossing pairs after the contact passes
+  int64_t zone_vertices = 0;    ///< vertices moved rigidly in impact zones
   int64_t frozen_vertices = 0;  ///< vertices held at their start positions
   int64_t left = 0;  ///< crossing pairs left at the end (0 unless kinematic particles caused them)
 };
@@ -105,7 +105,7 @@ class Simulation {
 
   bool diverged() const { return !divergence_.empty(); }
   const std::string& divergence() const { return divergence_; }  ///< why, with a hint
-  int64_t diverged_frame() const { return diverged_frame_; }      ///< -1 unless diverged
+  int64_t diverged_frame() const { return diverged_frame_; }     ///< -1 unless diverged
 
   int64_t frame() const { return frame_; }
   double time() const { return static_cast<double>(frame_) * def_.solver.dt; }
@@ -141,6 +141,9 @@ class Simulation {
  private:
   void prepare_solver();
   void prepare_self_collision();
+  /// Places the particles of pins that move where their motions have them at time t (s),
+  /// with the velocity of getting there over the last dt; returns whether any moved.
+  bool move_pins(double t, double dt);
   void step_with_self_collision(World& world);
   void rebase_energy();
   double mechanical_energy() const;
@@ -152,8 +155,16 @@ class Simulation {
   std::unique_ptr<LongRange> attachments_;  ///< rebuilt when the pins change
   std::unique_ptr<Solver> solver_;
   std::unique_ptr<SelfCollision> self_collision_;  ///< null unless cloth.self_collision is on
-  std::vector<Vec3> frame_start_;  ///< positions at the start of a collision step
-  double frame_motion_ = 0.0;      ///< m, the cloth's relative motion over the last frame
+  std::vector<Vec3> frame_start_;                  ///< positions at the start of a collision step
+  double frame_motion_ = 0.0;  ///< m, the cloth's relative motion over the last frame
+  /// Each pin entry's particles and where they started (pins with a motion follow it).
+  struct PinEntry {
+    std::vector<int32_t> particles;
+    std::vector<Vec3> start;     ///< m
+    Vec3 centre = Vec3::Zero();  ///< m, of `start`: what a motion turns about
+  };
+  std::vector<PinEntry> pin_entries_;
+  bool pins_move_ = false;
   std::vector<double> scratch_;
   double diagonal_ = 0.0;  ///< m, of the rest shape's bounding box (divergence tolerance)
   int64_t frame_ = 0;

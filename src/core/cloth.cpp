@@ -16,9 +16,12 @@ namespace drape {
 
 const char* to_string(SpringKind k) {
   switch (k) {
-    case SpringKind::structural: return "structural";
-    case SpringKind::shear: return "shear";
-    case SpringKind::bending: return "bending";
+    case SpringKind::structural:
+      return "structural";
+    case SpringKind::shear:
+      return "shear";
+    case SpringKind::bending:
+      return "bending";
   }
   return "?";
 }
@@ -30,20 +33,34 @@ ClothModel build_model(const ClothDef& def) {
 std::vector<int32_t> pinned_particles(const ClothDef& def, const ClothModel& model) {
   std::vector<int32_t> out;
   for (size_t k = 0; k < def.pins.size(); ++k) {
+    const std::vector<int32_t> some = pin_particles(def, model, k);
+    out.insert(out.end(), some.begin(), some.end());
+  }
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
+  return out;
+}
+
+std::vector<int32_t> pin_particles(const ClothDef& def, const ClothModel& model, size_t k) {
+  std::vector<int32_t> out;
+  {
     const Pin& p = def.pins[k];
     const std::string path = "cloth.pins[" + std::to_string(k) + "]";
     switch (p.kind) {
       case PinKind::grid: {
         const GridTopology& g = model.grid;
         if (!g.present())
-          throw InputError(path, "a grid index or corner name needs a grid cloth; pin a mesh "
-                                 "by {\"vertex\": i} or {\"box\": {\"min\": [...], \"max\": [...]}}");
-        out.push_back(g.index(p.col < 0 ? p.col + g.cols : p.col, p.row < 0 ? p.row + g.rows : p.row));
+          throw InputError(path,
+                           "a grid index or corner name needs a grid cloth; pin a mesh "
+                           "by {\"vertex\": i} or {\"box\": {\"min\": [...], \"max\": [...]}}");
+        out.push_back(
+            g.index(p.col < 0 ? p.col + g.cols : p.col, p.row < 0 ? p.row + g.rows : p.row));
         break;
       }
       case PinKind::vertex:
         if (p.vertex < 0 || p.vertex >= model.size())
-          throw InputError(path + ".vertex", "is " + std::to_string(p.vertex) + ", but the cloth has " +
+          throw InputError(path + ".vertex", "is " + std::to_string(p.vertex) +
+                                                 ", but the cloth has " +
                                                  std::to_string(model.size()) + " vertices (0 to " +
                                                  std::to_string(model.size() - 1) + ")");
         out.push_back(p.vertex);

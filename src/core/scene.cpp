@@ -143,7 +143,8 @@ void check(const SceneDef& def) {
     require(grid_keys.empty(), "cloth.mesh",
             "is given, so the grid's keys (" + grid_keys +
                 ") have no meaning; place the mesh with cloth.transform instead");
-    const std::string where = c.mesh_file.empty() ? "cloth.mesh" : "cloth.mesh (" + c.mesh_file + ")";
+    const std::string where =
+        c.mesh_file.empty() ? "cloth.mesh" : "cloth.mesh (" + c.mesh_file + ")";
     model::check_mesh(*c.mesh, where);
     finite(c.transform.translate, "cloth.transform.translate");
     finite(c.transform.rotate, "cloth.transform.rotate");
@@ -170,6 +171,7 @@ void check(const SceneDef& def) {
   for (size_t k = 0; k < c.pins.size(); ++k) {
     const Pin& p = c.pins[k];
     const std::string path = "cloth.pins[" + std::to_string(k) + "]";
+    check_motion(p.motion, path + ".motion");
     switch (p.kind) {
       case PinKind::grid: {
         require(!c.mesh, path,
@@ -184,8 +186,8 @@ void check(const SceneDef& def) {
         throw InputError(path, problem);
       }
       case PinKind::vertex: {
-        const int64_t count = c.mesh ? static_cast<int64_t>(c.mesh->positions.size())
-                                     : int64_t{c.cols} * c.rows;
+        const int64_t count =
+            c.mesh ? static_cast<int64_t>(c.mesh->positions.size()) : int64_t{c.cols} * c.rows;
         require(p.vertex >= 0 && p.vertex < count, path + ".vertex",
                 "is " + std::to_string(p.vertex) + ", but the cloth has " + std::to_string(count) +
                     " vertices (0 to " + std::to_string(count - 1) + ")");

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "collision/collider_set.h"
+#include "collision/motion.h"
 #include "collision/self_collision.h"
 #include "drape/error.h"
 #include "forces.h"
@@ -68,6 +69,18 @@ Simulation::Simulation(const SceneDef& def)
   check_starts_outside(colliders_->now(), def_.cloth.perturbation * model_.mean_edge, state_.x);
   solver_ = make_solver(def_.solver, model_);
   scratch_.reserve(model_.size());
+  for (size_t k = 0; k < def_.cloth.pins.size(); ++k) {
+    PinEntry e;
+    e.particles = pin_particles(def_.cloth, model_, k);
+    for (const int32_t i : e.particles) {
+      e.start.push_back(state_.x[i]);
+      e.centre += state_.x[i] / static_cast<double>(e.particles.size());
+    }
+    pin_entries_.push_back(std::move(e));
+    pins_move_ = pins_move_ || def_.cloth.pins[k].motion.moves();
+  }
+  move_pins(0.0, def_.solver.dt);  // where the motions have them at the start
+  for (int32_t i = 0; i < model_.size(); ++i) state_.v[i] = Vec3::Zero();
   attachments_->prepare(model_, state_, def_.cloth.long_range);
   prepare_self_collision();
   prepare_solver();
@@ -75,6 +88,24 @@ Simulation::Simulation(const SceneDef& def)
 }
 
 Simulation::~Simulation() = default;
+
+bool Simulation::move_pins(double t, double dt) {
+  if (!pins_move_) return false;
+  for (size_t k = 0; k < pin_entries_.size(); ++k) {
+    const MotionDef& motion = def_.cloth.pins[k].motion;
+    if (!motion.moves()) continue;
+    const PinEntry& e = pin_entries_[k];
+    const Pose pose = pose_at(motion, e.centre, t);
+    for (size_t j = 0; j < e.particles.size(); ++j) {
+      const int32_t i = e.particles[j];
+      if (!state_.pinned[i] || i == grabbed_) continue;  // unpinned in the viewer, or held
+      const Vec3 x = pose.apply(e.start[j]);
+      state_.v[i] = (x - state_.x[i]) / dt;
+      state_.x[i] = state_.anchor[i] = x;
+    }
+  }
+  return true;
+}
 Simulation::Simulation(Simulation&&) noexcept = default;
 Simulation& Simulation::operator=(Simulation&&) noexcept = default;
 
@@ -162,6 +193,7 @@ void Simulation::step_with_self_collision(World& world) {
   // (fast's matrix is factorised for the whole frame: it takes one part.)
   const int parts = solver_->steps_any_dt() ? self_collision_->parts_for(frame_motion_) : 1;
   for (int part = 0; part < parts && !world.cut_short; ++part) {
+    if (move_pins(time() + dt * (part + 1) / parts, dt / parts)) solver_->state_changed();
     frame_start_ = state_.x;
     world.time = time() + dt * part / parts;
     solver_->step_frame(world, dt / parts);
@@ -179,6 +211,9 @@ bool Simulation::step() {
   if (self_collision_) {
     step_with_self_collision(world);
   } else {
+    // Moving pins are placed where they are at the frame's end, before it (the solvers hold
+    // pins still through a frame).
+    if (move_pins(time() + def_.solver.dt, def_.solver.dt)) solver_->state_changed();
     solver_->step_frame(world, def_.solver.dt);
   }
   stopped_ = world.cut_short;
@@ -214,9 +249,9 @@ bool Simulation::step() {
         method();
   } else {
     if (def_.forces.wind.strength > 0.0)
-      external_work_ += def_.solver.dt * forces::wind_power(model_, state_, def_.forces.wind,
-                                                            time(), scratch_);
-    if (grabbed_ >= 0 || pushed) rebase_energy();
+      external_work_ +=
+          def_.solver.dt * forces::wind_power(model_, state_, def_.forces.wind, time(), scratch_);
+    if (grabbed_ >= 0 || pushed || pins_move_) rebase_energy();  // work the hand or the body did
     const double mass = def_.cloth.mass;
     const double tolerance = 0.5 * mass + mass * def_.forces.gravity.norm() * diagonal_;
     double energy = watch.kinetic;

@@ -66,8 +66,8 @@ std::string list(const std::vector<std::string>& names) {
 class Reader {
  public:
   Reader(const json& j, std::string path) : j_(j), path_(std::move(path)) {
-    if (!j_.is_object()) fail(path_.empty() ? "(top level)" : path_,
-                              "expected an object, got " + type_name(j_));
+    if (!j_.is_object())
+      fail(path_.empty() ? "(top level)" : path_, "expected an object, got " + type_name(j_));
   }
 
   std::string at(const std::string& key) const { return path_.empty() ? key : path_ + "." + key; }
@@ -167,6 +167,8 @@ void read_springs(Reader& springs, const std::string& kind, SpringParams& p) {
 }
 
 // One pin: a corner name, [col, row], {"vertex": i} or {"box": {...}}.
+MotionDef read_motion(const json& v, const std::string& path);
+
 Pin read_pin(const json& p, const std::string& at) {
   if (p.is_string()) {
     const std::string name = p.get<std::string>();
@@ -178,6 +180,14 @@ Pin read_pin(const json& p, const std::string& at) {
                  "\"; expected \"top-left\", \"top-right\", \"bottom-left\", "
                  "\"bottom-right\", a grid index [col, row], {\"vertex\": i} or {\"box\": "
                  "{\"min\": [x, y, z], \"max\": [x, y, z]}}");
+  }
+  if (p.is_object() && p.contains("pin")) {
+    // {"pin": <any pin form>, "motion": {...}}: the form's particles follow the motion.
+    Reader r(p, at);
+    Pin pin = read_pin(*r.find("pin"), at + ".pin");
+    if (const json* m = r.find("motion")) pin.motion = read_motion(*m, at + ".motion");
+    r.finish();
+    return pin;
   }
   if (p.is_object()) {
     Reader r(p, at);
@@ -198,6 +208,7 @@ Pin read_pin(const json& p, const std::string& at) {
       b.finish();
       pin = Pin::in_box(lo, hi);
     }
+    if (const json* m = r.find("motion")) pin.motion = read_motion(*m, at + ".motion");
     r.finish();
     return pin;
   }
@@ -433,7 +444,8 @@ SceneDef parse_scene(const json& j, const std::string& source, const std::string
         // A mesh replaces the grid: the grid's keys beside it are a mistake worth naming.
         std::string grid_keys;
         for (const char* key : {"size", "resolution", "origin", "orientation"})
-          if (cj->contains(key)) grid_keys += std::string(grid_keys.empty() ? "" : ", ") + "cloth." + key;
+          if (cj->contains(key))
+            grid_keys += std::string(grid_keys.empty() ? "" : ", ") + "cloth." + key;
         if (!grid_keys.empty())
           fail("cloth.mesh", "is given, so the grid's keys (" + grid_keys +
                                  ") have no meaning beside it; remove them and place the mesh "
@@ -457,8 +469,10 @@ SceneDef parse_scene(const json& j, const std::string& source, const std::string
       r.vec3("origin", c.origin);
       r.choice("orientation", c.orientation, {Orientation::vertical, Orientation::horizontal});
       r.number("mass", c.mass);
-      if (const json* v = r.find("pins")) c.pins = read_pins(*v, "cloth.pins");
-      else if (c.mesh) c.pins.clear();  // the default corners are a grid's; a mesh has none
+      if (const json* v = r.find("pins"))
+        c.pins = read_pins(*v, "cloth.pins");
+      else if (c.mesh)
+        c.pins.clear();  // the default corners are a grid's; a mesh has none
       if (const json* v = r.find("springs")) {
         Reader s(*v, "cloth.springs");
         read_springs(s, "structural", c.structural);
@@ -491,9 +505,9 @@ SceneDef parse_scene(const json& j, const std::string& source, const std::string
           sc.number("friction", c.self_collision.friction);
           sc.finish();
         } else {
-          fail("cloth.self_collision",
-               "expected false, true or {\"thickness\": m, \"friction\": mu}, got " +
-                   type_name(*v));
+          fail(
+              "cloth.self_collision",
+              "expected false, true or {\"thickness\": m, \"friction\": mu}, got " + type_name(*v));
         }
       }
       r.finish();
@@ -645,6 +659,8 @@ json to_json(const SceneDef& d) {
         pin = json{{"box", json{{"min", v3(p.box_min)}, {"max", v3(p.box_max)}}}};
         break;
     }
+    // A moving pin in the {"pin": form, "motion": ...} form, which holds any form.
+    if (p.motion.moves()) pin = json{{"pin", pin}, {"motion", motion(p.motion)}};
     pins.push_back(pin);
   }
   json colliders = json::array();
@@ -681,18 +697,18 @@ json to_json(const SceneDef& d) {
   }
   const ClothDef& c = d.cloth;
   const WindDef& w = d.forces.wind;
-  json cloth{{"mass", c.mass},
-             {"pins", pins},
-             {"springs",
-              {{"structural", springs(c.structural)},
-               {"shear", springs(c.shear)},
-               {"bending", springs(c.bending)}}},
-             {"perturbation", c.perturbation},
-             {"long_range", c.long_range.enabled ? json{{"slack", c.long_range.slack}} : json(false)},
-             {"self_collision", c.self_collision.enabled
-                                    ? json{{"thickness", c.self_collision.thickness},
-                                           {"friction", c.self_collision.friction}}
-                                    : json(false)}};
+  json cloth{
+      {"mass", c.mass},
+      {"pins", pins},
+      {"springs",
+       {{"structural", springs(c.structural)},
+        {"shear", springs(c.shear)},
+        {"bending", springs(c.bending)}}},
+      {"perturbation", c.perturbation},
+      {"long_range", c.long_range.enabled ? json{{"slack", c.long_range.slack}} : json(false)},
+      {"self_collision", c.self_collision.enabled ? json{{"thickness", c.self_collision.thickness},
+                                                         {"friction", c.self_collision.friction}}
+                                                  : json(false)}};
   if (c.mesh) {
     cloth["mesh"] = c.mesh_file;
     cloth["transform"] = {{"translate", v3(c.transform.translate)},
@@ -704,37 +720,36 @@ json to_json(const SceneDef& d) {
     cloth["origin"] = v3(c.origin);
     cloth["orientation"] = to_string(c.orientation);
   }
-  return json{
-      {"name", d.name},
-      {"cloth", cloth},
-      {"forces",
-       {{"gravity", v3(d.forces.gravity)},
-        {"air_drag", d.forces.air_drag},
-        {"wind",
-         {{"model", to_string(w.model)},
-          {"direction", v3(w.direction)},
-          {"strength", w.strength},
-          {"coefficient", w.coefficient},
-          {"density", w.density},
-          {"gust", w.gust},
-          {"gust_frequency", w.gust_frequency}}}}},
-      {"colliders", colliders},
-      {"solver",
-       {{"method", to_string(d.solver.method)},
-        {"precision", to_string(d.solver.precision)},
-        {"dt", d.solver.dt},
-        {"substeps", d.solver.substeps},
-        {"safety", d.solver.safety},
-        {"max_substeps", d.solver.max_substeps},
-        {"iterations", d.solver.iterations},
-        {"stiff_sweeps", d.solver.stiff_sweeps},
-        {"line_passes", d.solver.line_passes},
-        {"line_relaxation", d.solver.line_relaxation},
-        {"cg_tolerance", d.solver.cg_tolerance},
-        {"cg_max_iterations", d.solver.cg_max_iterations},
-        {"chebyshev_rho", d.solver.chebyshev_rho},
-        {"tolerance", d.solver.tolerance}}},
-      {"duration", d.duration}};
+  return json{{"name", d.name},
+              {"cloth", cloth},
+              {"forces",
+               {{"gravity", v3(d.forces.gravity)},
+                {"air_drag", d.forces.air_drag},
+                {"wind",
+                 {{"model", to_string(w.model)},
+                  {"direction", v3(w.direction)},
+                  {"strength", w.strength},
+                  {"coefficient", w.coefficient},
+                  {"density", w.density},
+                  {"gust", w.gust},
+                  {"gust_frequency", w.gust_frequency}}}}},
+              {"colliders", colliders},
+              {"solver",
+               {{"method", to_string(d.solver.method)},
+                {"precision", to_string(d.solver.precision)},
+                {"dt", d.solver.dt},
+                {"substeps", d.solver.substeps},
+                {"safety", d.solver.safety},
+                {"max_substeps", d.solver.max_substeps},
+                {"iterations", d.solver.iterations},
+                {"stiff_sweeps", d.solver.stiff_sweeps},
+                {"line_passes", d.solver.line_passes},
+                {"line_relaxation", d.solver.line_relaxation},
+                {"cg_tolerance", d.solver.cg_tolerance},
+                {"cg_max_iterations", d.solver.cg_max_iterations},
+                {"chebyshev_rho", d.solver.chebyshev_rho},
+                {"tolerance", d.solver.tolerance}}},
+              {"duration", d.duration}};
 }
 
 }  // namespace drape::io
