@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdlib>
 #include <functional>
 #include <numbers>
 
@@ -294,11 +295,16 @@ double elastica_tip_drop(double B, double w, double L) {
   return drop;
 }
 
+// ELASTICA_TRACE=1 prints the tip over time; ELASTICA_METHOD, _SUBSTEPS, _DAMPING, _CG and _L
+// override the method, substeps per frame, the material's damping, solver.cg_max_iterations and
+// the free length, for investigating it (run with --gtest_also_run_disabled_tests).
 // Disabled: not yet passing. Measured (implicit, 4 substeps, 4 s): cotton-polyester L = 8 cm
 // at 16 cells −1.3% against the shooting solution, but −63% at 32 and −78% at 64 cells; knit
-// L = 5 cm −21%, −72%, −94%. The finer strips had not come to rest (one Newton step per
-// substep with CG on a system whose bending part grows as 1/h⁴); the equilibrium needs a
-// static solve or many more substeps before this can be judged.
+// L = 5 cm −21%, −72%, −94%: the finer strips had not come to rest (a single Newton step per
+// substep damps the rotation of springs with k·h²/m ≫ 1). With 32 substeps they come to rest
+// and sag too far: cotton-polyester +12% (16 cells), +10% (32); knit +21%, +17%; at L = 2 cm
+// (linear regime) +36%, +30%, although the cylinder test above finds the elements' energy
+// right. Cause not found yet.
 TEST(Elastica, DISABLED_AClampedStripSagsAsTheShootingSolutionAtThreeResolutions) {
   // Peirce's cantilever: a strip along the warp (u), its first two columns pinned (the clamp,
   // so θ(0) = 0 at the second), its free length L beyond them. A stiff and a soft preset.
@@ -306,7 +312,8 @@ TEST(Elastica, DISABLED_AClampedStripSagsAsTheShootingSolutionAtThreeResolutions
     const char* preset;
     double L;
   };
-  for (const Case& c : {Case{"cotton-polyester", 0.08}, Case{"knit", 0.05}}) {
+  for (Case c : {Case{"cotton-polyester", 0.08}, Case{"knit", 0.05}}) {
+    if (const char* e = std::getenv("ELASTICA_L")) c.L = std::atof(e);
     const MaterialDef mat = *material_preset(c.preset);
     const double w = mat.density * 9.81, B = mat.bending.x();
     const double expected = elastica_tip_drop(B, w, c.L);
@@ -319,16 +326,30 @@ TEST(Elastica, DISABLED_AClampedStripSagsAsTheShootingSolutionAtThreeResolutions
       def.solver.method = Method::implicit;
       def.solver.substeps = 4;
       def.solver.cg_tolerance = 1e-8;
-      // Settle quickly: more damping changes the path, not the equilibrium.
-      def.cloth.material->damping = 0.02;
+      if (const char* e = std::getenv("ELASTICA_DAMPING")) def.cloth.material->damping = std::atof(e);
+      if (const char* e = std::getenv("ELASTICA_METHOD")) def.solver.method = *method_from_string(e);
+      if (const char* e = std::getenv("ELASTICA_SUBSTEPS")) def.solver.substeps = std::atoi(e);
+      if (const char* e = std::getenv("ELASTICA_CG")) def.solver.cg_max_iterations = std::atoi(e);
       Simulation sim(def);
-      for (int f = 0; f < 240; ++f) ASSERT_TRUE(sim.step());
-      double tip = 0.0;
       const int cols = cells + 2;
+      for (int f = 0; f < 240; ++f) {
+        ASSERT_TRUE(sim.step());
+        if (f % 30 == 29 && std::getenv("ELASTICA_TRACE")) {
+          double y = 0.0;
+          for (int r = 0; r < 4; ++r) y += sim.state().x[sim.model().index(cols - 1, r)].y();
+          std::printf("  t=%.2f drop %.5f ke %.3g\n", sim.time(), 1.0 - y / 4, sim.diagnostics().kinetic_energy);
+        }
+      }
+      double tip = 0.0;
       for (int r = 0; r < 4; ++r) tip += sim.state().x[sim.model().index(cols - 1, r)].y();
       const double drop = 1.0 - tip / 4.0;
       std::printf("elastica %s L=%.3f %d cells: tip drop %.5f m, shooting %.5f m (%+.2f%%)\n",
                   c.preset, c.L, cells, drop, expected, 100.0 * (drop / expected - 1.0));
+      if (std::getenv("ELASTICA_TRACE"))
+        for (int r = 0; r < 4; ++r) {
+          const Vec3 p = sim.state().x[sim.model().index(cols - 1, r)];
+          std::printf("   tip row %d: %.6f %.6f %.6f\n", r, p.x(), p.y(), p.z());
+        }
       EXPECT_NEAR(drop / expected, 1.0, 0.05) << c.preset << " " << cells;
     }
   }
