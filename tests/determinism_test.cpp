@@ -45,6 +45,7 @@ TEST(Determinism, EachShippedSceneAndMethodHashesTheSameTwice) {
   for (const std::string& name : testing_support::shipped_scene_names()) {
     for (Method method : kAllMethods) {
       SceneDef def = shipped(name);
+      if (def.cloth.material && method == Method::xpbd) continue;  // refused: not yet supported
       def.solver.method = method;
       const uint64_t first = run(def, 20), second = run(def, 20);
       EXPECT_EQ(first, second) << name << " " << to_string(method);

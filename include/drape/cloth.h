@@ -29,6 +29,17 @@ struct Spring {
   SpringKind kind = SpringKind::structural;
 };
 
+/// An isometric bending element (Bergou, Wardetzky, Harmon, Zorin & Grinspun 2006, "A quadratic
+/// bending model for inextensible surfaces") across an edge two triangles share: the curvature
+/// vector c = Σ_k w_k·x_{v_k} (zero while the pair lies flat) and the energy ½·stiffness·|c|²,
+/// quadratic in the positions, so its Hessian is the constant stiffness·w·wᵀ ⊗ I.
+struct BendingElement {
+  std::array<int32_t, 4> v{};  ///< the edge's two ends, then the two far corners
+  std::array<double, 4> w{};   ///< weights (cotangents of the rest triangles' angles), sum 0
+  double stiffness = 0.0;      ///< N/m, k of ½k|c|², from the rigidity B and the rest areas
+  double damping = 0.0;        ///< N·s/m, c of the damping force −c·w_k·Σ_l w_l·v_l on v_k
+};
+
 /// The row/column layout of a cloth built by the grid generator, which fast paths may use
 /// (xpbd's line passes); every path also works without it. Particle (col, row) is
 /// row·cols + col. Absent (cols = rows = 0) for a mesh.
@@ -68,6 +79,12 @@ struct ClothModel {
   /// empty when `uv` holds them exactly (grids, meshes without seams) or there are none.
   std::vector<Vec2> texcoords;
   std::vector<Triangle> triangle_texcoords;
+  /// Bending elements (cloth.material only; the seed's model bends by springs).
+  std::vector<BendingElement> bending;
+  /// Factor on the stiffness of a compressed spring (cloth.material's compression; 1 for the
+  /// seed's model): compressed cloth yields and buckles instead of resisting as in tension.
+  double compression = 1.0;
+  bool material = false;  ///< built from cloth.material (bending elements, masses by density)
   std::vector<Vec3> rest_position;  ///< m, the rest shape (before the perturbation)
   std::vector<double> mass;         ///< kg per particle
   double mean_edge = 0.0;           ///< m, mean rest length of the structural springs

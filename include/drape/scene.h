@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "drape/material.h"
 #include "drape/math.h"
 #include "drape/mesh.h"
 
@@ -122,6 +123,10 @@ struct ClothDef {
   LongRangeDef long_range;  ///< `false`, `true` or {"slack": s} in scene files
   /// `false`, `true` or {"thickness": m, "friction": μ} in scene files
   SelfCollisionDef self_collision;
+  /// A fabric in physical units: masses, stretch and shear springs and bending elements derive
+  /// from it and the mesh (see drape/material.h); `mass` and the springs are then unused (and
+  /// an error in a scene file). Absent: the seed's model, as above.
+  std::optional<MaterialDef> material;
 };
 
 enum class WindModel : uint8_t {
@@ -142,6 +147,12 @@ struct WindDef {
 struct ForcesDef {
   Vec3 gravity{0.0, -9.81, 0.0};  ///< m/s²
   double air_drag = 0.01;         ///< ρA of one particle, kg/m: dv = −(ρA/m)|v|v dt
+  /// kg/m³, air density for the drag on the cloth's area (0 = none): each particle's share A of
+  /// the area moving along its normal n feels ½ρ·C·A·|v·n|(v·n) against it, so it does not
+  /// change with resolution. A scene file with cloth.material sets it to 1.225 and air_drag
+  /// to 0 unless it gives them.
+  double air_density = 0.0;
+  double drag_coefficient = 1.2;  ///< C of that drag, >= 0 (a flat plate broadside: about 1.2)
   WindDef wind;
 };
 

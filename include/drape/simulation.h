@@ -167,6 +167,7 @@ class Simulation {
   bool pins_move_ = false;
   std::vector<double> scratch_;
   double diagonal_ = 0.0;  ///< m, of the rest shape's bounding box (divergence tolerance)
+  double total_mass_ = 0.0;  ///< kg, the cloth's (a material's is not cloth.mass)
   int64_t frame_ = 0;
   const std::atomic<bool>* stop_ = nullptr;
   bool stopped_ = false;

@@ -27,7 +27,9 @@ const char* to_string(SpringKind k) {
 }
 
 ClothModel build_model(const ClothDef& def) {
-  return def.mesh ? model::from_mesh(def) : model::grid(def);
+  ClothModel m = def.mesh ? model::from_mesh(def) : model::grid(def);
+  if (def.material) model::apply_material(*def.material, m);
+  return m;
 }
 
 std::vector<int32_t> pinned_particles(const ClothDef& def, const ClothModel& model) {
@@ -251,7 +253,7 @@ void update_normals(const ClothModel& model, ClothState& state) {
 }
 
 int64_t heap_bytes(const ClothModel& m) {
-  return heap_bytes(m.springs, m.colour_begin, m.triangles, m.vertex_triangle_begin,
+  return heap_bytes(m.springs, m.bending, m.colour_begin, m.triangles, m.vertex_triangle_begin,
                     m.vertex_triangles, m.uv, m.texcoords, m.triangle_texcoords, m.rest_position,
                     m.mass);
 }

@@ -13,7 +13,8 @@ void add_springs(const ClothModel& model, const std::vector<Vec3>& x, const std:
 #pragma omp parallel for schedule(static) if (colour_in_parallel(model, c))
     for (int32_t s = begin; s < end; ++s) {
       const Spring& sp = model.springs[s];
-      const Vec3 fi = spring_elastic(x[sp.i], x[sp.j], sp.stiffness, sp.rest) +
+      const double k = acting_stiffness(x[sp.i], x[sp.j], sp.stiffness, sp.rest, compression_of(model, sp.kind));
+      const Vec3 fi = spring_elastic(x[sp.i], x[sp.j], k, sp.rest) +
                       spring_damping(x[sp.i], x[sp.j], v[sp.i], v[sp.j], sp.damping);
       f[sp.i] += fi;
       f[sp.j] -= fi;
@@ -98,6 +99,21 @@ void apply_drag(double air_drag, const std::vector<double>& inv_mass, double dt,
   }
 }
 
+void apply_area_drag(const ClothModel& model, const ClothState& state, double air_density,
+                     double coefficient, double h, std::vector<Vec3>& v) {
+  if (air_density == 0.0 || coefficient == 0.0) return;
+  const double half_rho_c = 0.5 * air_density * coefficient;
+  const int32_t n = model.size();
+#pragma omp parallel for schedule(static) if (worth_threads(n))
+  for (int32_t i = 0; i < n; ++i) {
+    if (state.inv_mass[i] == 0.0) continue;
+    const Vec3& nrm = state.normal[i];
+    const double vn = v[i].dot(nrm);
+    const double k = h * half_rho_c * state.area[i] / model.mass[i];
+    v[i] -= (vn * (1.0 - 1.0 / (1.0 + k * std::abs(vn)))) * nrm;
+  }
+}
+
 double kinetic_energy(const ClothModel& model, const std::vector<Vec3>& v) {
   double e = 0.0;
   for (int32_t i = 0; i < model.size(); ++i) e += 0.5 * model.mass[i] * v[i].squaredNorm();
@@ -122,7 +138,10 @@ StateWatch watch_state(const ClothModel& model, const ClothState& state, const V
 
 double spring_energy(const ClothModel& model, const std::vector<Vec3>& x) {
   double e = 0.0;
-  for (const Spring& s : model.springs) e += spring_energy(x[s.i], x[s.j], s.stiffness, s.rest);
+  for (const Spring& s : model.springs)
+    e += spring_energy(x[s.i], x[s.j],
+                       acting_stiffness(x[s.i], x[s.j], s.stiffness, s.rest, compression_of(model, s.kind)),
+                       s.rest);
   return e;
 }
 

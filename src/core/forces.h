@@ -20,6 +20,21 @@ inline Vec3 spring_elastic(const Vec3& xi, const Vec3& xj, double k, double rest
   return (k * (len - rest) / len) * d;
 }
 
+/// The stiffness a spring acts with now: k stretched, compression·k compressed, so that cloth
+/// resists compression far less than tension and buckles out of its plane instead (Choi & Ko
+/// 2002, "Stable but responsive cloth"). The energy ½k(|d| − L)² with this k is continuous with
+/// a continuous gradient. compression = 1 (the seed's model) returns k exactly.
+inline double acting_stiffness(const Vec3& xi, const Vec3& xj, double k, double rest,
+                               double compression) {
+  return (xj - xi).squaredNorm() < rest * rest ? compression * k : k;
+}
+
+/// The compression factor a spring of `kind` takes from the model: structural springs (the
+/// threads) buckle; shear springs keep their stiffness both ways, so shear stays the material's.
+inline double compression_of(const ClothModel& model, SpringKind kind) {
+  return kind == SpringKind::structural ? model.compression : 1.0;
+}
+
 /// Damping force on particle i of a spring: c((v_j − v_i)·d̂)·d̂.
 inline Vec3 spring_damping(const Vec3& xi, const Vec3& xj, const Vec3& vi, const Vec3& vj,
                            double c) {
@@ -93,7 +108,16 @@ inline Real drag_factor(Real k, Real ux, Real uy, Real uz) {
 void apply_drag(double air_drag, const std::vector<double>& inv_mass, double dt,
                 std::vector<Vec3>& v);
 
-/// Energies (J): ½Σ m v², −Σ m g·x, Σ ½k(|d| − L)².
+/// Drag on the cloth's area, the same at any resolution: particle i, carrying the area A_i
+/// (state.area) facing along n_i (state.normal), feels ½ρ·C·A_i·|v_n|v_n against its normal
+/// velocity v_n = v_i·n_i, the particle's share of each triangle's drag on its area moving
+/// through still air. Taken semi-implicitly as apply_drag is, on the normal part only:
+/// v_n ← v_n / (1 + h·(½ρC·A_i/m_i)·|v_n|), stable for any h; since A_i/m_i is 1/density, a
+/// falling sheet reaches sqrt(2·density·g/(ρC)) at every resolution. No-op where 1/m = 0.
+void apply_area_drag(const ClothModel& model, const ClothState& state, double air_density,
+                     double coefficient, double h, std::vector<Vec3>& v);
+
+/// Energies (J): ½Σ m v², −Σ m g·x, Σ ½k(|d| − L)² (k as acting_stiffness says).
 double kinetic_energy(const ClothModel& model, const std::vector<Vec3>& v);
 double gravity_energy(const ClothModel& model, const std::vector<Vec3>& x, const Vec3& g);
 double spring_energy(const ClothModel& model, const std::vector<Vec3>& x);

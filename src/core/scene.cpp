@@ -210,10 +210,28 @@ void check(const SceneDef& def) {
   range(c.long_range.slack, 0.0, 10.0, "cloth.long_range.slack");
   nonnegative(c.self_collision.thickness, "cloth.self_collision.thickness");
   nonnegative(c.self_collision.friction, "cloth.self_collision.friction");
+  if (c.material) {
+    const MaterialDef& m = *c.material;
+    range(m.density, 0.0, 1e4, "cloth.material.density", true);
+    for (int a = 0; a < 2; ++a) {
+      const std::string index = "[" + std::to_string(a) + "]";
+      range(m.stretch[a], 0.0, 1e9, "cloth.material.stretch" + index, true);
+      range(m.bending[a], 0.0, 1e3, "cloth.material.bending" + index);
+    }
+    range(m.shear, 0.0, 1e9, "cloth.material.shear");
+    range(m.compression, 0.0, 1.0, "cloth.material.compression");
+    range(m.damping, 0.0, 10.0, "cloth.material.damping");
+    require(def.solver.method != Method::xpbd, "solver.method",
+            "xpbd does not run cloth.material yet (its bending elements, softer compression and "
+            "drag by area); use implicit, fast, symplectic or auto (which takes fast for a "
+            "material)");
+  }
 
   const ForcesDef& f = def.forces;
   finite(f.gravity, "forces.gravity");
   nonnegative(f.air_drag, "forces.air_drag");
+  range(f.air_density, 0.0, 1e4, "forces.air_density");
+  range(f.drag_coefficient, 0.0, 100.0, "forces.drag_coefficient");
   const WindDef& w = f.wind;
   finite(w.direction, "forces.wind.direction");
   nonnegative(w.strength, "forces.wind.strength");

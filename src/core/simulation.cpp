@@ -11,6 +11,7 @@
 #include "collision/self_collision.h"
 #include "drape/error.h"
 #include "forces.h"
+#include "forces/bending.h"
 #include "long_range.h"
 #include "solvers/solver.h"
 
@@ -64,6 +65,7 @@ Simulation::Simulation(const SceneDef& def)
     hi = hi.cwiseMax(x);
   }
   diagonal_ = (hi - lo).norm();
+  for (const double m : model_.mass) total_mass_ += m;
   colliders_ = std::make_unique<ColliderSet>(def_.colliders, 0.0);
   // The perturbation moved the start by up to this much (cloth.perturbation is relative).
   check_starts_outside(colliders_->now(), def_.cloth.perturbation * model_.mean_edge, state_.x);
@@ -153,7 +155,7 @@ void Simulation::prepare_solver() {
 double Simulation::mechanical_energy() const {
   return forces::kinetic_energy(model_, state_.v) +
          forces::gravity_energy(model_, state_.x, def_.forces.gravity) +
-         forces::spring_energy(model_, state_.x);
+         forces::spring_energy(model_, state_.x) + forces::bending_energy(model_, state_.x);
 }
 
 void Simulation::rebase_energy() {
@@ -252,10 +254,11 @@ bool Simulation::step() {
       external_work_ +=
           def_.solver.dt * forces::wind_power(model_, state_, def_.forces.wind, time(), scratch_);
     if (grabbed_ >= 0 || pushed || pins_move_) rebase_energy();  // work the hand or the body did
-    const double mass = def_.cloth.mass;
+    const double mass = def_.cloth.material ? total_mass_ : def_.cloth.mass;
     const double tolerance = 0.5 * mass + mass * def_.forces.gravity.norm() * diagonal_;
     double energy = watch.kinetic;
-    if (solver_->stretch_is_energy()) energy += forces::spring_energy(model_, state_.x);
+    if (solver_->stretch_is_energy())
+      energy += forces::spring_energy(model_, state_.x) + forces::bending_energy(model_, state_.x);
     const double supplied = energy_ref_ + external_work_ - watch.gravity;
     // An energy that overflowed compares false with anything; so does an excess of inf − inf.
     if (!std::isfinite(energy) || !std::isfinite(supplied)) {
@@ -373,11 +376,21 @@ bool Simulation::reconfigure(const SceneDef& def) {
       a.origin != b.origin || a.orientation != b.orientation || a.perturbation != b.perturbation ||
       a.mesh != b.mesh || !same_transform || !same_pins)
     return false;
+  // A material's masses, springs and bending elements are cooked from it and the mesh: a
+  // changed material (or a change to or from one) is a new cloth.
+  auto same_material = [](const std::optional<MaterialDef>& p, const std::optional<MaterialDef>& q) {
+    if (!p || !q) return !p && !q;
+    return p->density == q->density && p->stretch == q->stretch && p->shear == q->shear &&
+           p->bending == q->bending && p->compression == q->compression &&
+           p->damping == q->damping;
+  };
+  if (!same_material(a.material, b.material)) return false;
 
   // Build the new solver first so a refused set-up leaves the simulation as it was.
   SceneDef old = def_;
   def_ = def;
   for (Spring& s : model_.springs) {
+    if (b.material) break;  // the material's own, unchanged
     const SpringParams& p = s.kind == SpringKind::structural ? b.structural
                             : s.kind == SpringKind::shear    ? b.shear
                                                              : b.bending;
@@ -385,7 +398,7 @@ bool Simulation::reconfigure(const SceneDef& def) {
     s.damping = p.damping;
   }
   // Masses: the grid's equal shares exactly, a mesh's by area (scaled to the new total).
-  for (int32_t i = 0; i < model_.size(); ++i) {
+  for (int32_t i = 0; i < model_.size() && !b.material; ++i) {
     const double m =
         model_.grid.present() ? b.mass / model_.size() : model_.mass[i] * (b.mass / a.mass);
     if (i == grabbed_) grabbed_inv_mass_ = 1.0 / m;

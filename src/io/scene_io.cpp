@@ -216,6 +216,61 @@ Pin read_pin(const json& p, const std::string& at) {
   return {Reader::as_integer(p[0], at + "[0]"), Reader::as_integer(p[1], at + "[1]")};
 }
 
+// A number, or [warp, weft].
+Vec2 read_warp_weft(const json& v, const std::string& path, const char* unit) {
+  if (v.is_number()) {
+    const double x = Reader::as_number(v, path);
+    return Vec2(x, x);
+  }
+  Reader::pair(v, path, (std::string("numbers [warp, weft] in ") + unit + ", or one number").c_str());
+  return Vec2(Reader::as_number(v[0], path + "[0]"), Reader::as_number(v[1], path + "[1]"));
+}
+
+std::string preset_list() {
+  std::string out;
+  for (const std::string& n : material_preset_names()) out += (out.empty() ? "\"" : ", \"") + n + "\"";
+  return out;
+}
+
+MaterialDef preset_named(const std::string& name, const std::string& path) {
+  if (std::optional<MaterialDef> m = material_preset(name)) return *m;
+  fail(path, "unknown material \"" + shown(name) + "\"; the presets are " + preset_list() +
+                 ", or give an object with density, stretch, shear and bending");
+}
+
+}  // namespace
+
+MaterialDef read_material(const json& v, const std::string& path) {
+  if (v.is_string()) return preset_named(v.get<std::string>(), path);
+  if (!v.is_object())
+    fail(path, "expected a preset's name (" + preset_list() + ") or an object, got " +
+                   type_name(v));
+  Reader r(v, path);
+  MaterialDef m;
+  const json* preset = r.find("preset");
+  if (preset) {
+    if (!preset->is_string()) fail(r.at("preset"), "expected a preset's name, got " + type_name(*preset));
+    m = preset_named(preset->get<std::string>(), r.at("preset"));
+  } else {
+    // Without a preset to start from, the four measured quantities have no default.
+    for (const char* key : {"density", "stretch", "shear", "bending"})
+      if (!v.contains(key))
+        fail(r.at(key), "missing; a material without \"preset\" needs density (kg/m²), "
+                        "stretch (N/m), shear (N/m) and bending (N·m)");
+    m.name.clear();
+  }
+  r.number("density", m.density);
+  if (const json* s = r.find("stretch")) m.stretch = read_warp_weft(*s, r.at("stretch"), "N/m");
+  r.number("shear", m.shear);
+  if (const json* b = r.find("bending")) m.bending = read_warp_weft(*b, r.at("bending"), "N·m");
+  r.number("compression", m.compression);
+  r.number("damping", m.damping);
+  r.finish();
+  return m;
+}
+
+namespace {
+
 std::vector<Pin> read_pins(const json& v, const std::string& path) {
   if (!v.is_array()) fail(path, "expected an array of pins, got " + type_name(v));
   std::vector<Pin> pins;
@@ -469,10 +524,18 @@ SceneDef parse_scene(const json& j, const std::string& source, const std::string
       r.vec3("origin", c.origin);
       r.choice("orientation", c.orientation, {Orientation::vertical, Orientation::horizontal});
       r.number("mass", c.mass);
-      if (const json* v = r.find("pins"))
-        c.pins = read_pins(*v, "cloth.pins");
-      else if (c.mesh)
-        c.pins.clear();  // the default corners are a grid's; a mesh has none
+      if (const json* v = r.find("material")) {
+        // The material sets the masses and the springs' stiffness: either beside it says two
+        // different things.
+        for (const char* key : {"mass", "springs"})
+          if (cj->contains(key))
+            fail("cloth.material",
+                 std::string("and cloth.") + key + " are both given; a material derives the "
+                 "masses and the springs' stiffness and damping itself: remove cloth." + key);
+        c.material = read_material(*v, "cloth.material");
+      }
+      if (const json* v = r.find("pins")) c.pins = read_pins(*v, "cloth.pins");
+      else if (c.mesh) c.pins.clear();  // the default corners are a grid's; a mesh has none
       if (const json* v = r.find("springs")) {
         Reader s(*v, "cloth.springs");
         read_springs(s, "structural", c.structural);
@@ -512,10 +575,20 @@ SceneDef parse_scene(const json& j, const std::string& source, const std::string
       }
       r.finish();
     }
+    if (def.cloth.material) {
+      // A material's cloth feels air by its area, the same at any resolution, not the seed's
+      // drag per particle, unless the scene says otherwise.
+      const json* fj = j.contains("forces") ? &j["forces"] : nullptr;
+      const bool object = fj && fj->is_object();
+      if (!object || !fj->contains("air_drag")) def.forces.air_drag = 0.0;
+      if (!object || !fj->contains("air_density")) def.forces.air_density = 1.225;
+    }
     if (const json* fj = top.find("forces")) {
       Reader r(*fj, "forces");
       r.vec3("gravity", def.forces.gravity);
       r.number("air_drag", def.forces.air_drag);
+      r.number("air_density", def.forces.air_density);
+      r.number("drag_coefficient", def.forces.drag_coefficient);
       if (const json* wj = r.find("wind")) {
         WindDef& w = def.forces.wind;
         Reader wr(*wj, "forces.wind");
@@ -697,18 +770,28 @@ json to_json(const SceneDef& d) {
   }
   const ClothDef& c = d.cloth;
   const WindDef& w = d.forces.wind;
-  json cloth{
-      {"mass", c.mass},
-      {"pins", pins},
-      {"springs",
-       {{"structural", springs(c.structural)},
-        {"shear", springs(c.shear)},
-        {"bending", springs(c.bending)}}},
-      {"perturbation", c.perturbation},
-      {"long_range", c.long_range.enabled ? json{{"slack", c.long_range.slack}} : json(false)},
-      {"self_collision", c.self_collision.enabled ? json{{"thickness", c.self_collision.thickness},
-                                                         {"friction", c.self_collision.friction}}
-                                                  : json(false)}};
+  json cloth{{"pins", pins},
+             {"perturbation", c.perturbation},
+             {"long_range", c.long_range.enabled ? json{{"slack", c.long_range.slack}} : json(false)},
+             {"self_collision", c.self_collision.enabled
+                                    ? json{{"thickness", c.self_collision.thickness},
+                                           {"friction", c.self_collision.friction}}
+                                    : json(false)}};
+  if (c.material) {
+    const MaterialDef& m = *c.material;
+    cloth["material"] = {{"density", m.density},
+                         {"stretch", {m.stretch.x(), m.stretch.y()}},
+                         {"shear", m.shear},
+                         {"bending", {m.bending.x(), m.bending.y()}},
+                         {"compression", m.compression},
+                         {"damping", m.damping}};
+    if (!m.name.empty()) cloth["material"]["preset"] = m.name;
+  } else {
+    cloth["mass"] = c.mass;
+    cloth["springs"] = {{"structural", springs(c.structural)},
+                        {"shear", springs(c.shear)},
+                        {"bending", springs(c.bending)}};
+  }
   if (c.mesh) {
     cloth["mesh"] = c.mesh_file;
     cloth["transform"] = {{"translate", v3(c.transform.translate)},
@@ -720,36 +803,39 @@ json to_json(const SceneDef& d) {
     cloth["origin"] = v3(c.origin);
     cloth["orientation"] = to_string(c.orientation);
   }
-  return json{{"name", d.name},
-              {"cloth", cloth},
-              {"forces",
-               {{"gravity", v3(d.forces.gravity)},
-                {"air_drag", d.forces.air_drag},
-                {"wind",
-                 {{"model", to_string(w.model)},
-                  {"direction", v3(w.direction)},
-                  {"strength", w.strength},
-                  {"coefficient", w.coefficient},
-                  {"density", w.density},
-                  {"gust", w.gust},
-                  {"gust_frequency", w.gust_frequency}}}}},
-              {"colliders", colliders},
-              {"solver",
-               {{"method", to_string(d.solver.method)},
-                {"precision", to_string(d.solver.precision)},
-                {"dt", d.solver.dt},
-                {"substeps", d.solver.substeps},
-                {"safety", d.solver.safety},
-                {"max_substeps", d.solver.max_substeps},
-                {"iterations", d.solver.iterations},
-                {"stiff_sweeps", d.solver.stiff_sweeps},
-                {"line_passes", d.solver.line_passes},
-                {"line_relaxation", d.solver.line_relaxation},
-                {"cg_tolerance", d.solver.cg_tolerance},
-                {"cg_max_iterations", d.solver.cg_max_iterations},
-                {"chebyshev_rho", d.solver.chebyshev_rho},
-                {"tolerance", d.solver.tolerance}}},
-              {"duration", d.duration}};
+  return json{
+      {"name", d.name},
+      {"cloth", cloth},
+      {"forces",
+       {{"gravity", v3(d.forces.gravity)},
+        {"air_drag", d.forces.air_drag},
+        {"air_density", d.forces.air_density},
+        {"drag_coefficient", d.forces.drag_coefficient},
+        {"wind",
+         {{"model", to_string(w.model)},
+          {"direction", v3(w.direction)},
+          {"strength", w.strength},
+          {"coefficient", w.coefficient},
+          {"density", w.density},
+          {"gust", w.gust},
+          {"gust_frequency", w.gust_frequency}}}}},
+      {"colliders", colliders},
+      {"solver",
+       {{"method", to_string(d.solver.method)},
+        {"precision", to_string(d.solver.precision)},
+        {"dt", d.solver.dt},
+        {"substeps", d.solver.substeps},
+        {"safety", d.solver.safety},
+        {"max_substeps", d.solver.max_substeps},
+        {"iterations", d.solver.iterations},
+        {"stiff_sweeps", d.solver.stiff_sweeps},
+        {"line_passes", d.solver.line_passes},
+        {"line_relaxation", d.solver.line_relaxation},
+        {"cg_tolerance", d.solver.cg_tolerance},
+        {"cg_max_iterations", d.solver.cg_max_iterations},
+        {"chebyshev_rho", d.solver.chebyshev_rho},
+        {"tolerance", d.solver.tolerance}}},
+      {"duration", d.duration}};
 }
 
 }  // namespace drape::io

@@ -38,6 +38,11 @@ SceneDef parse_scene(const nlohmann::json& j, const std::string& source,
 /// array elements are addressed by number (colliders.0.radius). Throws InputError.
 void apply_override(nlohmann::json& scene, const std::string& assignment);
 
+/// A material as cloth.material holds it: a preset's name, or an object of density, stretch,
+/// shear, bending, compression and damping (starting from {"preset": name} when it has one).
+/// Throws InputError at `path`.
+MaterialDef read_material(const nlohmann::json& v, const std::string& path);
+
 /// Every key of a scene, with every value given: parse_scene(to_json(d)) reproduces d.
 nlohmann::json to_json(const SceneDef& def);
 

@@ -20,6 +20,11 @@ ClothModel grid(const ClothDef& def);
 /// spring across every edge two triangles share, masses by area, the mesh's own uv.
 ClothModel from_mesh(const ClothDef& def);
 
+/// Derives the model's masses, spring stiffness and damping and bending elements from a
+/// material (model/material.cpp says how), replacing the seed's bending springs, and recolours
+/// the springs. Called by build_model after the generator.
+void apply_material(const MaterialDef& material, ClothModel& m);
+
 /// Throws InputError at `path` naming the first problem that stops `mesh` from being a cloth:
 /// no triangles, an index out of range, a non-finite coordinate, a vertex in no triangle, a
 /// triangle of zero area, an edge shared by more than two triangles. Triangles are named by

@@ -33,6 +33,7 @@
 
 #include "drape/error.h"
 #include "forces.h"
+#include "forces/bending.h"
 #include "long_range.h"
 #include "parallel.h"
 #include "solver.h"
@@ -86,6 +87,19 @@ class Fast final : public Solver {
         t.emplace_back(fj, fi, -a);
       }
     }
+    // Bending elements are quadratic (Bergou et al. 2006): their energy h²·½k|Σ w x|² and
+    // damping (h/2)·d|Σ w (x − x₀)|² enter the prefactored matrix exactly, with no local step.
+    for (const BendingElement& b : m.bending) {
+      const double a = h_ * h_ * b.stiffness + h_ * b.damping;
+      for (int p = 0; p < 4; ++p) {
+        const int32_t fp = free_[b.v[p]];
+        if (fp < 0) continue;
+        for (int q = 0; q < 4; ++q) {
+          const int32_t fq = free_[b.v[q]];
+          if (fq >= 0) t.emplace_back(fp, fq, a * b.w[p] * b.w[q]);
+        }
+      }
+    }
     // Contacts as a term of the minimised energy, w·½|x − p|² with p the particle's current
     // iterate moved out of the colliders (the local step finds p like a spring's direction): a
     // stiff pull to the surface where something touches. Projecting only the inertial target y
@@ -93,6 +107,7 @@ class Fast final : public Solver {
     // term: p is also moved inside each pin's limit.
     double k_max = 0.0;
     for (const Spring& s : m.springs) k_max = std::max(k_max, s.stiffness);
+    compressed_soft_ = m.compression != 1.0;
     contact_weight_ =
         w.colliders.empty() && !w.attachments.active() ? 0.0 : kContactWeight * h_ * h_ * k_max;
     A_.resize(free, free);
@@ -185,6 +200,10 @@ class Fast final : public Solver {
     const ClothModel& m = w.model;
     const int32_t n = m.size();
     forces::apply_drag(w.forces.air_drag, s.inv_mass, h_, s.v);
+    if (w.forces.air_density > 0.0) {
+      update_normals(m, s);
+      forces::apply_area_drag(m, s, w.forces.air_density, w.forces.drag_coefficient, h_, s.v);
+    }
 #pragma omp parallel for schedule(static) if (worth_threads(n))
     for (int32_t i = 0; i < n; ++i) force_[i] = m.mass[i] * w.forces.gravity;
     if (w.forces.wind.strength > 0.0 && w.forces.wind.coefficient > 0.0) {
@@ -242,6 +261,20 @@ class Fast final : public Solver {
         if (free_[sp.i] < 0) b0_[sp.j] += a * x0_[sp.i];
       }
     }
+    bending_rhs(m);
+  }
+
+  // The bending elements' constant right-hand side: their damping's h·d·w_a·Σ w_b x₀_b, and
+  // the coupling to fixed corners, −(h²k + h·d)·w_a·w_b·x_b, moved over from the matrix.
+  void bending_rhs(const ClothModel& m) {
+    for (const BendingElement& b : m.bending) {
+      const double a = h_ * h_ * b.stiffness + h_ * b.damping;
+      const Vec3 damp = (h_ * b.damping) * forces::bending_vector(b, x0_);
+      Vec3 fixed = Vec3::Zero();
+      for (int q = 0; q < 4; ++q)
+        if (free_[b.v[q]] < 0) fixed += b.w[q] * x0_[b.v[q]];
+      for (int p = 0; p < 4; ++p) b0_[b.v[p]] += b.w[p] * (damp - a * fixed);
+    }
   }
 
   // 2. Local step (the best spring directions for x_k) scattered into the right-hand side
@@ -268,7 +301,12 @@ class Fast final : public Solver {
         const Vec3 e = xk_[sp.j] - xk_[sp.i];
         const double len = e.norm();
         if (len == 0.0) continue;  // any direction is as good; none adds nothing
-        const Vec3 d = (h2 * sp.stiffness * sp.rest / len) * e;
+        // A compressed spring of a material acts with compression·k (Choi & Ko 2002); with k
+        // fixed in the matrix, the target length (1 − c)·|e| + c·L gives that force at x_k.
+        double target = sp.rest;
+        if (compressed_soft_ && len < sp.rest && sp.kind == SpringKind::structural)
+          target = (1.0 - m.compression) * len + m.compression * sp.rest;
+        const Vec3 d = (h2 * sp.stiffness * target / len) * e;
         rhs_[sp.i] -= d;
         rhs_[sp.j] += d;
       }
@@ -346,6 +384,7 @@ class Fast final : public Solver {
   int iterations_ = kDefaultIterations;
   double rho_ = 0.0;
   double h_ = 1.0 / 60.0;
+  bool compressed_soft_ = false;  // the model's compressed springs act with less stiffness
   double contact_weight_ = 0.0;  // kg, w of the contact term (0 without colliders)
   int32_t free_count_ = 0;
   std::vector<int32_t> free_;      // particle → unknown, −1 when fixed

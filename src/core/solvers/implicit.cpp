@@ -20,6 +20,7 @@
 #include <cmath>
 
 #include "forces.h"
+#include "forces/bending.h"
 #include "long_range.h"
 #include "parallel.h"
 #include "solver.h"
@@ -81,6 +82,8 @@ class Implicit final : public Solver {
   // 1. The right-hand side b = h·f₀ − h²·K·v₀ (K = −∂f/∂x, clamped), each spring's system
   // block D = h²K + h·c·d̂d̂ᵀ (c·d̂d̂ᵀ = −∂f/∂v), and the block-Jacobi preconditioner.
   void assemble(World& w, double h, double t) {
+    h_ = h;
+    h2_ = h * h;
     const ClothModel& m = w.model;
     ClothState& s = w.state;
     const int32_t n = m.size();
@@ -108,9 +111,11 @@ class Implicit final : public Solver {
       for (int32_t k = begin; k < end; ++k) {
         const Spring& sp = m.springs[k];
         const Vec3 &xi = s.x[sp.i], &xj = s.x[sp.j];
-        const Mat3 K = forces::spring_stiffness(xi, xj, sp.stiffness, sp.rest, true);
-        block_[k] = forces::implicit_spring_block(xi, xj, sp.stiffness, sp.rest, sp.damping, h);
-        const Vec3 fi = forces::spring_elastic(xi, xj, sp.stiffness, sp.rest) +
+        const double ks = forces::acting_stiffness(xi, xj, sp.stiffness, sp.rest,
+                                                    forces::compression_of(m, sp.kind));
+        const Mat3 K = forces::spring_stiffness(xi, xj, ks, sp.rest, true);
+        block_[k] = forces::implicit_spring_block(xi, xj, ks, sp.rest, sp.damping, h);
+        const Vec3 fi = forces::spring_elastic(xi, xj, ks, sp.rest) +
                         forces::spring_damping(xi, xj, s.v[sp.i], s.v[sp.j], sp.damping);
         const Vec3 bi = h * fi - h2 * (K * (s.v[sp.i] - s.v[sp.j]));
         rhs_[sp.i] += bi;
@@ -119,6 +124,20 @@ class Implicit final : public Solver {
         force_[sp.j] -= fi;
         diag_[sp.i] += block_[k];
         diag_[sp.j] += block_[k];
+      }
+    }
+    // Bending elements: their Hessian k·w·wᵀ ⊗ I is constant and their damping d·w·wᵀ ⊗ I
+    // too, so each adds (h²k + h·d)·w_a·w_b·I to the system, h·f₀ − h²k·w_a·Σ w_b v_b to the
+    // right-hand side. One thread: an element's four corners are not separated by colours.
+    for (const BendingElement& b : m.bending) {
+      const Vec3 c = forces::bending_vector(b, s.x), cv = forces::bending_vector(b, s.v);
+      const Vec3 f = -(b.stiffness * c + b.damping * cv);
+      const double a = h2 * b.stiffness + h * b.damping;
+      for (int q = 0; q < 4; ++q) {
+        const int32_t p = b.v[q];
+        rhs_[p] += b.w[q] * (h * f - h2 * b.stiffness * cv);
+        force_[p] += b.w[q] * f;
+        diag_[p].diagonal().array() += a * b.w[q] * b.w[q];
       }
     }
     // Contacts, the filter S (I, I − nnᵀ or 0), the preconditioner S·P⁻¹·S (zero in the
@@ -205,6 +224,10 @@ class Implicit final : public Solver {
         q[sp.j] -= y;
       }
     }
+    for (const BendingElement& b : m.bending) {
+      const Vec3 y = (h2_ * b.stiffness + h_ * b.damping) * forces::bending_vector(b, p);
+      for (int k = 0; k < 4; ++k) q[b.v[k]] += b.w[k] * y;
+    }
   }
 
   // 2. Filtered preconditioned CG from the guess Δv = h·f_ext/m (exact in free fall). Stops
@@ -241,6 +264,7 @@ class Implicit final : public Solver {
   }
 
   int substeps_ = 1;
+  double h_ = 0.0, h2_ = 0.0;  // the substep's h and h² (the bending blocks are formed from them)
   double tolerance_ = 1e-5;
   int max_iterations_ = 2000;
   int last_iterations_ = 0;

@@ -15,7 +15,9 @@ std::unique_ptr<Solver> make_solver(const SolverDef& def, const ClothModel& mode
     case Method::xpbd:
       return model.grid.present() ? make_grid_xpbd(def.precision) : make_mesh_xpbd(def.precision);
     case Method::fast: return make_fast();
-    case Method::automatic: return make_auto();
+    // xpbd does not yet run a material's bending elements, compressed springs and area drag:
+    // auto chooses fast for it, whose prefactored matrix holds the quadratic bending exactly.
+    case Method::automatic: return model.material ? make_fast() : make_auto();
   }
   return nullptr;
 }
@@ -30,6 +32,10 @@ void drag_drift_constrain(World& w, double h) {
   ClothState& s = w.state;
   const int32_t n = w.model.size();
   forces::apply_drag(w.forces.air_drag, s.inv_mass, h, s.v);
+  if (w.forces.air_density > 0.0) {
+    update_normals(w.model, s);
+    forces::apply_area_drag(w.model, s, w.forces.air_density, w.forces.drag_coefficient, h, s.v);
+  }
 #pragma omp parallel for schedule(static) if (worth_threads(n))
   for (int32_t i = 0; i < n; ++i) s.x[i] += h * s.v[i];
   w.attachments.apply(s, true);

@@ -7,6 +7,7 @@
 
 #include "drape/error.h"
 #include "forces.h"
+#include "forces/bending.h"
 #include "solver.h"
 #include "parallel.h"
 
@@ -16,10 +17,13 @@ double explicit_step_bound(const ClothModel& model, const std::vector<double>& i
   const int32_t n = model.size();
   const std::vector<double> k_sum = spring_sums(model, &Spring::stiffness),
                             c_sum = spring_sums(model, &Spring::damping);
+  // Bending elements' rows: their Hessian's Gershgorin sums (none in the seed's model).
+  std::vector<double> k_bend(n, 0.0), c_bend(n, 0.0);
+  forces::bending_row_sums(model, k_bend, c_bend);
   double omega2 = 0.0, gamma = 0.0;
   for (int32_t i = 0; i < n; ++i) {
-    omega2 = std::max(omega2, 2.0 * k_sum[i] * inv_mass[i]);
-    gamma = std::max(gamma, 2.0 * c_sum[i] * inv_mass[i]);
+    omega2 = std::max(omega2, (2.0 * k_sum[i] + k_bend[i]) * inv_mass[i]);
+    gamma = std::max(gamma, (2.0 * c_sum[i] + c_bend[i]) * inv_mass[i]);
   }
   if (omega2 == 0.0) return gamma == 0.0 ? std::numeric_limits<double>::infinity() : 2.0 / gamma;
   // Positive root of h²ω² + 2hγ − 4 = 0, written to avoid cancellation when γ² ≫ ω².
@@ -61,6 +65,7 @@ class Symplectic final : public Solver {
 #pragma omp parallel for schedule(static) if (worth_threads(n))
       for (int32_t i = 0; i < n; ++i) force_[i] = w.model.mass[i] * w.forces.gravity;
       forces::add_springs(w.model, s.x, s.v, force_);
+      forces::add_bending(w.model, s.x, s.v, force_);
       if (wind) {
         update_normals(w.model, s);
         forces::add_wind(w.model, s, w.forces.wind, w.time + k * h, force_);
