@@ -222,13 +222,15 @@ Vec2 read_warp_weft(const json& v, const std::string& path, const char* unit) {
     const double x = Reader::as_number(v, path);
     return Vec2(x, x);
   }
-  Reader::pair(v, path, (std::string("numbers [warp, weft] in ") + unit + ", or one number").c_str());
+  Reader::pair(v, path,
+               (std::string("numbers [warp, weft] in ") + unit + ", or one number").c_str());
   return Vec2(Reader::as_number(v[0], path + "[0]"), Reader::as_number(v[1], path + "[1]"));
 }
 
 std::string preset_list() {
   std::string out;
-  for (const std::string& n : material_preset_names()) out += (out.empty() ? "\"" : ", \"") + n + "\"";
+  for (const std::string& n : material_preset_names())
+    out += (out.empty() ? "\"" : ", \"") + n + "\"";
   return out;
 }
 
@@ -243,20 +245,22 @@ MaterialDef preset_named(const std::string& name, const std::string& path) {
 MaterialDef read_material(const json& v, const std::string& path) {
   if (v.is_string()) return preset_named(v.get<std::string>(), path);
   if (!v.is_object())
-    fail(path, "expected a preset's name (" + preset_list() + ") or an object, got " +
-                   type_name(v));
+    fail(path,
+         "expected a preset's name (" + preset_list() + ") or an object, got " + type_name(v));
   Reader r(v, path);
   MaterialDef m;
   const json* preset = r.find("preset");
   if (preset) {
-    if (!preset->is_string()) fail(r.at("preset"), "expected a preset's name, got " + type_name(*preset));
+    if (!preset->is_string())
+      fail(r.at("preset"), "expected a preset's name, got " + type_name(*preset));
     m = preset_named(preset->get<std::string>(), r.at("preset"));
   } else {
     // Without a preset to start from, the four measured quantities have no default.
     for (const char* key : {"density", "stretch", "shear", "bending"})
       if (!v.contains(key))
-        fail(r.at(key), "missing; a material without \"preset\" needs density (kg/m²), "
-                        "stretch (N/m), shear (N/m) and bending (N·m)");
+        fail(r.at(key),
+             "missing; a material without \"preset\" needs density (kg/m²), "
+             "stretch (N/m), shear (N/m) and bending (N·m)");
     m.name.clear();
   }
   r.number("density", m.density);
@@ -270,6 +274,22 @@ MaterialDef read_material(const json& v, const std::string& path) {
 }
 
 namespace {
+
+// A part that is off, on with its defaults, or on with settings: false, true, or an object of
+// settings, which `settings` reads.
+template <typename ReadSettings>
+void read_switch(const json& v, const std::string& path, bool& enabled, const char* expected,
+                 ReadSettings&& settings) {
+  if (v.is_boolean()) {
+    enabled = v.get<bool>();
+    return;
+  }
+  if (!v.is_object()) fail(path, std::string("expected ") + expected + ", got " + type_name(v));
+  Reader r(v, path);
+  enabled = true;
+  settings(r);
+  r.finish();
+}
 
 std::vector<Pin> read_pins(const json& v, const std::string& path) {
   if (!v.is_array()) fail(path, "expected an array of pins, got " + type_name(v));
@@ -530,12 +550,16 @@ SceneDef parse_scene(const json& j, const std::string& source, const std::string
         for (const char* key : {"mass", "springs"})
           if (cj->contains(key))
             fail("cloth.material",
-                 std::string("and cloth.") + key + " are both given; a material derives the "
-                 "masses and the springs' stiffness and damping itself: remove cloth." + key);
+                 std::string("and cloth.") + key +
+                     " are both given; a material derives the "
+                     "masses and the springs' stiffness and damping itself: remove cloth." +
+                     key);
         c.material = read_material(*v, "cloth.material");
       }
-      if (const json* v = r.find("pins")) c.pins = read_pins(*v, "cloth.pins");
-      else if (c.mesh) c.pins.clear();  // the default corners are a grid's; a mesh has none
+      if (const json* v = r.find("pins"))
+        c.pins = read_pins(*v, "cloth.pins");
+      else if (c.mesh)
+        c.pins.clear();  // the default corners are a grid's; a mesh has none
       if (const json* v = r.find("springs")) {
         Reader s(*v, "cloth.springs");
         read_springs(s, "structural", c.structural);
@@ -544,35 +568,15 @@ SceneDef parse_scene(const json& j, const std::string& source, const std::string
         s.finish();
       }
       r.number("perturbation", c.perturbation);
-      if (const json* v = r.find("long_range")) {
-        // false, true, or {"slack": s}.
-        if (v->is_boolean()) {
-          c.long_range.enabled = v->get<bool>();
-        } else if (v->is_object()) {
-          Reader lr(*v, "cloth.long_range");
-          c.long_range.enabled = true;
-          lr.number("slack", c.long_range.slack);
-          lr.finish();
-        } else {
-          fail("cloth.long_range", "expected false, true or {\"slack\": s}, got " + type_name(*v));
-        }
-      }
-      if (const json* v = r.find("self_collision")) {
-        // false, true, or {"thickness": m, "friction": μ}.
-        if (v->is_boolean()) {
-          c.self_collision.enabled = v->get<bool>();
-        } else if (v->is_object()) {
-          Reader sc(*v, "cloth.self_collision");
-          c.self_collision.enabled = true;
-          sc.number("thickness", c.self_collision.thickness);
-          sc.number("friction", c.self_collision.friction);
-          sc.finish();
-        } else {
-          fail(
-              "cloth.self_collision",
-              "expected false, true or {\"thickness\": m, \"friction\": mu}, got " + type_name(*v));
-        }
-      }
+      if (const json* v = r.find("long_range"))
+        read_switch(*v, "cloth.long_range", c.long_range.enabled, "false, true or {\"slack\": s}",
+                    [&](Reader& lr) { lr.number("slack", c.long_range.slack); });
+      if (const json* v = r.find("self_collision"))
+        read_switch(*v, "cloth.self_collision", c.self_collision.enabled,
+                    "false, true or {\"thickness\": m, \"friction\": mu}", [&](Reader& sc) {
+                      sc.number("thickness", c.self_collision.thickness);
+                      sc.number("friction", c.self_collision.friction);
+                    });
       r.finish();
     }
     if (def.cloth.material) {
@@ -770,13 +774,13 @@ json to_json(const SceneDef& d) {
   }
   const ClothDef& c = d.cloth;
   const WindDef& w = d.forces.wind;
-  json cloth{{"pins", pins},
-             {"perturbation", c.perturbation},
-             {"long_range", c.long_range.enabled ? json{{"slack", c.long_range.slack}} : json(false)},
-             {"self_collision", c.self_collision.enabled
-                                    ? json{{"thickness", c.self_collision.thickness},
-                                           {"friction", c.self_collision.friction}}
-                                    : json(false)}};
+  json cloth{
+      {"pins", pins},
+      {"perturbation", c.perturbation},
+      {"long_range", c.long_range.enabled ? json{{"slack", c.long_range.slack}} : json(false)},
+      {"self_collision", c.self_collision.enabled ? json{{"thickness", c.self_collision.thickness},
+                                                         {"friction", c.self_collision.friction}}
+                                                  : json(false)}};
   if (c.material) {
     const MaterialDef& m = *c.material;
     cloth["material"] = {{"density", m.density},
@@ -803,39 +807,38 @@ json to_json(const SceneDef& d) {
     cloth["origin"] = v3(c.origin);
     cloth["orientation"] = to_string(c.orientation);
   }
-  return json{
-      {"name", d.name},
-      {"cloth", cloth},
-      {"forces",
-       {{"gravity", v3(d.forces.gravity)},
-        {"air_drag", d.forces.air_drag},
-        {"air_density", d.forces.air_density},
-        {"drag_coefficient", d.forces.drag_coefficient},
-        {"wind",
-         {{"model", to_string(w.model)},
-          {"direction", v3(w.direction)},
-          {"strength", w.strength},
-          {"coefficient", w.coefficient},
-          {"density", w.density},
-          {"gust", w.gust},
-          {"gust_frequency", w.gust_frequency}}}}},
-      {"colliders", colliders},
-      {"solver",
-       {{"method", to_string(d.solver.method)},
-        {"precision", to_string(d.solver.precision)},
-        {"dt", d.solver.dt},
-        {"substeps", d.solver.substeps},
-        {"safety", d.solver.safety},
-        {"max_substeps", d.solver.max_substeps},
-        {"iterations", d.solver.iterations},
-        {"stiff_sweeps", d.solver.stiff_sweeps},
-        {"line_passes", d.solver.line_passes},
-        {"line_relaxation", d.solver.line_relaxation},
-        {"cg_tolerance", d.solver.cg_tolerance},
-        {"cg_max_iterations", d.solver.cg_max_iterations},
-        {"chebyshev_rho", d.solver.chebyshev_rho},
-        {"tolerance", d.solver.tolerance}}},
-      {"duration", d.duration}};
+  return json{{"name", d.name},
+              {"cloth", cloth},
+              {"forces",
+               {{"gravity", v3(d.forces.gravity)},
+                {"air_drag", d.forces.air_drag},
+                {"air_density", d.forces.air_density},
+                {"drag_coefficient", d.forces.drag_coefficient},
+                {"wind",
+                 {{"model", to_string(w.model)},
+                  {"direction", v3(w.direction)},
+                  {"strength", w.strength},
+                  {"coefficient", w.coefficient},
+                  {"density", w.density},
+                  {"gust", w.gust},
+                  {"gust_frequency", w.gust_frequency}}}}},
+              {"colliders", colliders},
+              {"solver",
+               {{"method", to_string(d.solver.method)},
+                {"precision", to_string(d.solver.precision)},
+                {"dt", d.solver.dt},
+                {"substeps", d.solver.substeps},
+                {"safety", d.solver.safety},
+                {"max_substeps", d.solver.max_substeps},
+                {"iterations", d.solver.iterations},
+                {"stiff_sweeps", d.solver.stiff_sweeps},
+                {"line_passes", d.solver.line_passes},
+                {"line_relaxation", d.solver.line_relaxation},
+                {"cg_tolerance", d.solver.cg_tolerance},
+                {"cg_max_iterations", d.solver.cg_max_iterations},
+                {"chebyshev_rho", d.solver.chebyshev_rho},
+                {"tolerance", d.solver.tolerance}}},
+              {"duration", d.duration}};
 }
 
 }  // namespace drape::io

@@ -10,10 +10,13 @@
 namespace drape {
 
 /// The point of triangle abc nearest p, as barycentric weights (wa, wb, wc) summing to 1.
-/// `interior` says it lies inside the face (all weights positive), not on an edge or a corner.
+/// `interior` says it lies inside the face (all weights positive), not on an edge or a corner;
+/// `feature` which of them it lies on: 0 the face, 1..3 the edges ab, bc, ca, 4..6 the corners
+/// a, b, c (a mesh's pseudo-normals are per feature).
 struct TrianglePoint {
   double wa = 1.0, wb = 0.0, wc = 0.0;
   bool interior = false;
+  int feature = 4;
 };
 
 inline TrianglePoint closest_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b,
@@ -21,32 +24,32 @@ inline TrianglePoint closest_on_triangle(const Vec3& p, const Vec3& a, const Vec
   // Ericson's walk over the Voronoi regions of the corners, the edges and the face.
   const Vec3 ab = b - a, ac = c - a, ap = p - a;
   const double d1 = ab.dot(ap), d2 = ac.dot(ap);
-  if (d1 <= 0.0 && d2 <= 0.0) return {1.0, 0.0, 0.0, false};
+  if (d1 <= 0.0 && d2 <= 0.0) return {1.0, 0.0, 0.0, false, 4};
   const Vec3 bp = p - b;
   const double d3 = ab.dot(bp), d4 = ac.dot(bp);
-  if (d3 >= 0.0 && d4 <= d3) return {0.0, 1.0, 0.0, false};
+  if (d3 >= 0.0 && d4 <= d3) return {0.0, 1.0, 0.0, false, 5};
   const double vc = d1 * d4 - d3 * d2;
   if (vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0) {
     const double t = d1 / (d1 - d3);
-    return {1.0 - t, t, 0.0, false};
+    return {1.0 - t, t, 0.0, false, 1};
   }
   const Vec3 cp = p - c;
   const double d5 = ab.dot(cp), d6 = ac.dot(cp);
-  if (d6 >= 0.0 && d5 <= d6) return {0.0, 0.0, 1.0, false};
+  if (d6 >= 0.0 && d5 <= d6) return {0.0, 0.0, 1.0, false, 6};
   const double vb = d5 * d2 - d1 * d6;
   if (vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0) {
     const double t = d2 / (d2 - d6);
-    return {1.0 - t, 0.0, t, false};
+    return {1.0 - t, 0.0, t, false, 3};
   }
   const double va = d3 * d6 - d5 * d4;
   if (va <= 0.0 && (d4 - d3) >= 0.0 && (d5 - d6) >= 0.0) {
     const double t = (d4 - d3) / ((d4 - d3) + (d5 - d6));
-    return {0.0, 1.0 - t, t, false};
+    return {0.0, 1.0 - t, t, false, 2};
   }
   const double sum = va + vb + vc;
-  if (!(sum > 0.0)) return {1.0, 0.0, 0.0, false};  // a degenerate (zero-area) triangle
+  if (!(sum > 0.0)) return {1.0, 0.0, 0.0, false, 4};  // a degenerate (zero-area) triangle
   const double v = vb / sum, w = vc / sum;
-  return {1.0 - v - w, v, w, true};
+  return {1.0 - v - w, v, w, true, 0};
 }
 
 /// Whether p lies over the face of triangle abc (its projection on the plane inside the
@@ -59,13 +62,13 @@ inline TrianglePoint over_face(const Vec3& p, const Vec3& a, const Vec3& b, cons
   const double d00 = ab.dot(ab), d01 = ab.dot(ac), d11 = ac.dot(ac);
   const double d20 = ap.dot(ab), d21 = ap.dot(ac);
   const double denominator = d00 * d11 - d01 * d01;
-  if (!(denominator > 0.0)) return {1.0, 0.0, 0.0, false};  // degenerate
+  if (!(denominator > 0.0)) return {1.0, 0.0, 0.0, false, 4};  // degenerate
   double wb = (d11 * d20 - d01 * d21) / denominator, wc = (d00 * d21 - d01 * d20) / denominator;
   double wa = 1.0 - wb - wc;
-  if (std::min({wa, wb, wc}) < -margin) return {wa, wb, wc, false};
+  if (std::min({wa, wb, wc}) < -margin) return {wa, wb, wc, false, 4};
   wa = std::max(wa, 0.0), wb = std::max(wb, 0.0), wc = std::max(wc, 0.0);
   const double sum = wa + wb + wc;
-  return {wa / sum, wb / sum, wc / sum, true};
+  return {wa / sum, wb / sum, wc / sum, true, 0};
 }
 
 /// The parameters s, t in [0, 1] of the nearest points p0 + s(p1 − p0) and q0 + t(q1 − q0) of

@@ -6,6 +6,7 @@
 #include <limits>
 #include <unordered_map>
 
+#include "collision/closest_points.h"
 #include "drape/cloth.h"
 
 namespace drape {
@@ -14,36 +15,11 @@ namespace {
 
 constexpr int kLeafSize = 4;
 
-// The closest point to p on triangle abc (Ericson 2005, "Real-Time Collision Detection",
-// sec. 5.1.5), and its feature: 0 the face, 1..3 the edges ab, bc, ca, 4..6 the vertices a, b, c.
+// The closest point to p on triangle abc and its feature (closest_points.h).
 Vec3 closest_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c, int& feature) {
-  const Vec3 ab = b - a, ac = c - a, ap = p - a;
-  const double d1 = ab.dot(ap), d2 = ac.dot(ap);
-  if (d1 <= 0.0 && d2 <= 0.0) return feature = 4, a;
-  const Vec3 bp = p - b;
-  const double d3 = ab.dot(bp), d4 = ac.dot(bp);
-  if (d3 >= 0.0 && d4 <= d3) return feature = 5, b;
-  const double vc = d1 * d4 - d3 * d2;
-  if (vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0) {
-    feature = 1;
-    return a + (d1 / (d1 - d3)) * ab;
-  }
-  const Vec3 cp = p - c;
-  const double d5 = ab.dot(cp), d6 = ac.dot(cp);
-  if (d6 >= 0.0 && d5 <= d6) return feature = 6, c;
-  const double vb = d5 * d2 - d1 * d6;
-  if (vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0) {
-    feature = 3;
-    return a + (d2 / (d2 - d6)) * ac;
-  }
-  const double va = d3 * d6 - d5 * d4;
-  if (va <= 0.0 && (d4 - d3) >= 0.0 && (d5 - d6) >= 0.0) {
-    feature = 2;
-    return b + ((d4 - d3) / ((d4 - d3) + (d5 - d6))) * (c - b);
-  }
-  feature = 0;
-  const double denom = 1.0 / (va + vb + vc);
-  return a + ab * (vb * denom) + ac * (vc * denom);
+  const TrianglePoint q = drape::closest_on_triangle(p, a, b, c);
+  feature = q.feature;
+  return q.wa * a + q.wb * b + q.wc * c;
 }
 
 double box_distance2(const Vec3& p, const Vec3& lo, const Vec3& hi) {
