@@ -184,7 +184,10 @@ Pin read_pin(const json& p, const std::string& at) {
   if (p.is_object() && p.contains("pin")) {
     // {"pin": <any pin form>, "motion": {...}}: the form's particles follow the motion.
     Reader r(p, at);
-    Pin pin = read_pin(*r.find("pin"), at + ".pin");
+    const json& form = *r.find("pin");
+    if (form.is_object() && form.contains("pin"))
+      fail(at + ".pin", "holds another {\"pin\": ...}; give the pin's form itself there");
+    Pin pin = read_pin(form, at + ".pin");
     if (const json* m = r.find("motion")) pin.motion = read_motion(*m, at + ".motion");
     r.finish();
     return pin;
