@@ -101,8 +101,7 @@ void CrossingFinder::find(const std::vector<Triangle>& triangles,
   // Each pair in each cell they share, tested only in the one cell where the grid reports it.
   // Found per cell in parallel, kept in cell order: the same list for any thread count.
   const int64_t cells = grid_.cells();
-  const bool threads = worth_threads(grid_.entries());
-#pragma omp parallel if (threads)
+#pragma omp parallel if (worth_threads(grid_.entries()))
   {
     std::vector<TrianglePair> mine;
 #pragma omp for schedule(static) nowait

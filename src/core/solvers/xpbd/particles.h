@@ -238,7 +238,7 @@ class Particles {
       }
       for (int32_t c = c0; c < c1; ++c) {
         if (!(w[c] > Real(0))) continue;
-        Vec3 m(double(mx[c]), double(my[c]), double(mz[c]));
+        Vec3 m{double(mx[c]), double(my[c]), double(mz[c])};
         Vec3 x = Vec3(double(bx[c]), double(by[c]), double(bz[c])) + m;
         if (!position_contact(col, x, m)) continue;
         mx[c] = static_cast<Real>(m.x());
