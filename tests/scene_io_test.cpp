@@ -5,9 +5,10 @@
 #include <filesystem>
 #include <fstream>
 
-#include "shipped_scenes.h"
+#include "drape/cloth.h"
 #include "drape/error.h"
 #include "io/scene_io.h"
+#include "shipped_scenes.h"
 
 namespace drape {
 namespace {
@@ -61,14 +62,45 @@ TEST(SceneFiles, EmptyObjectGivesTheDocumentedDefaults) {
 }
 
 TEST(SceneFiles, CornerNamesAndIndicesPin) {
-  const SceneDef def = io::parse_scene(
-      json::parse(R"({"cloth": {"resolution": [10, 5],
+  const SceneDef def = io::parse_scene(json::parse(R"({"cloth": {"resolution": [10, 5],
                      "pins": ["top-left", "top-right", "bottom-left", "bottom-right", [3, 2]]}})"),
-      "pins.json");
+                                       "pins.json");
   ASSERT_EQ(def.cloth.pins.size(), 5u);
   EXPECT_EQ(def.cloth.pins[1].col, -1);  // the last column, at any resolution
   EXPECT_EQ(def.cloth.pins[3].row, -1);
   EXPECT_EQ(def.cloth.pins[4].col, 3);
+}
+
+TEST(SceneFiles, ABallPinHoldsEveryVertexWithinItsRadiusAndRoundTrips) {
+  // A horizontal 1 m grid of 11 × 11 at y = 1: the ball of radius 0.25 about its centre holds
+  // the particles within 2.5 spacings of it (none lies near its surface to round either way).
+  const SceneDef def = io::parse_scene(
+      json::parse(R"({"cloth": {"resolution": [11, 11], "size": [1, 1], "origin": [0, 1, 0],
+                     "orientation": "horizontal",
+                     "pins": [{"ball": {"center": [0.5, 1, 0.5], "radius": 0.25}}]}})"),
+      "ball.json");
+  ASSERT_EQ(def.cloth.pins.size(), 1u);
+  EXPECT_EQ(def.cloth.pins[0].kind, PinKind::ball);
+  const ClothModel m = build_model(def.cloth);
+  const std::vector<int32_t> held = pinned_particles(def.cloth, m);
+  int expected = 0;
+  for (int c = 0; c < 11; ++c)
+    for (int r = 0; r < 11; ++r) expected += (c - 5) * (c - 5) + (r - 5) * (r - 5) <= 6;
+  EXPECT_EQ(static_cast<int>(held.size()), expected);
+  for (int32_t i : held) EXPECT_LE((m.rest_position[i] - Vec3(0.5, 1, 0.5)).norm(), 0.25);
+  const SceneDef back = io::parse_scene(io::to_json(def), "again");
+  EXPECT_EQ(back.cloth.pins[0].ball_radius, 0.25);
+  EXPECT_EQ(back.cloth.pins[0].ball_center, Vec3(0.5, 1, 0.5));
+  // A ball that holds nothing is refused, naming it.
+  SceneDef far = def;
+  far.cloth.pins[0].ball_center = Vec3(5, 5, 5);
+  try {
+    pinned_particles(far.cloth, m);
+    ADD_FAILURE() << "a ball holding no vertex was taken";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.path(), "cloth.pins[0].ball");
+    EXPECT_NE(e.problem().find("holds no vertex"), std::string::npos) << e.what();
+  }
 }
 
 struct BadCase {
@@ -77,7 +109,9 @@ struct BadCase {
   const char* words;       // and words it must contain
 };
 
-void PrintTo(const BadCase& c, std::ostream* os) { *os << c.assignment; }
+void PrintTo(const BadCase& c, std::ostream* os) {
+  *os << c.assignment;
+}
 
 class BadInput : public ::testing::TestWithParam<BadCase> {};
 
@@ -109,6 +143,11 @@ INSTANTIATE_TEST_SUITE_P(
         BadCase{"cloth.orientation=sideways", "cloth.orientation", "expected one of"},
         BadCase{"cloth.pins=[[32,0]]", "cloth.pins[0]", "outside the 32x32 grid"},
         BadCase{"cloth.pins=[\"middle\"]", "cloth.pins[0]", "unknown corner"},
+        BadCase{"cloth.pins=[{\"ball\": {\"center\": [0, 0, 0], \"radius\": 0}}]",
+                "cloth.pins[0].ball.radius", "must be in (0"},
+        BadCase{"cloth.pins=[{\"ball\": {\"radius\": 1}}]", "cloth.pins[0].ball.center", "missing"},
+        BadCase{"cloth.pins=[{\"ball\": {\"center\": [0, 0, 0], \"radius\": 1}, \"box\": 1}]",
+                "cloth.pins[0]", "expected one of"},
         BadCase{"cloth.springs.shear.stiffness=-5", "cloth.springs.shear.stiffness",
                 "must not be negative"},
         BadCase{"cloth.springs.bending.damping=-1", "cloth.springs.bending.damping",
@@ -150,7 +189,9 @@ TEST(Overrides, SetNestedKeysArrayElementsAndBareWords) {
 // JSON dump throw a type_error instead of the loader's InputError.
 TEST(Overrides, InvalidUtf8InAValueIsAnInputError) {
   json j = json::object();
-  io::apply_override(j, "cloth.pins=[\"top-left\",\x9b" "3,-1]]");
+  io::apply_override(j,
+                     "cloth.pins=[\"top-left\",\x9b"
+                     "3,-1]]");
   EXPECT_THROW(io::parse_scene(j, "fuzz.json"), InputError);
 }
 
@@ -160,7 +201,7 @@ TEST(Overrides, MalformedOrImpossibleOnesAreRefused) {
   EXPECT_THROW(io::apply_override(j, "=3"), InputError);
   EXPECT_THROW(io::apply_override(j, "cloth..mass=3"), InputError);
   EXPECT_THROW(io::apply_override(j, "colliders.0.radius=1"), InputError);  // no collider 0
-  EXPECT_THROW(io::apply_override(j, "cloth.mass.value=1"), InputError);   // mass is a number
+  EXPECT_THROW(io::apply_override(j, "cloth.mass.value=1"), InputError);    // mass is a number
 }
 
 class FileErrors : public ::testing::Test {

@@ -46,7 +46,8 @@ struct MotionDef {
 enum class PinKind : uint8_t {
   grid,    ///< a grid index [col, row] (corner names are grid indices); grids only
   vertex,  ///< a vertex index, 0-based as in the OBJ file; any cloth
-  box      ///< every vertex inside an axis-aligned box at the start; any cloth
+  box,     ///< every vertex inside an axis-aligned box at the start; any cloth
+  ball     ///< every vertex inside a ball at the start (a clamp's disc); any cloth
 };
 
 /// Pinned particles. A grid index counts row 0 as the top row; a negative index counts from the
@@ -55,9 +56,11 @@ struct Pin {
   int col = 0;  ///< grid: column
   int row = 0;  ///< grid: row
   PinKind kind = PinKind::grid;
-  int32_t vertex = 0;           ///< vertex: its index
-  Vec3 box_min = Vec3::Zero();  ///< m, box: the corner with the smallest coordinates
-  Vec3 box_max = Vec3::Zero();  ///< m, box: the opposite corner
+  int32_t vertex = 0;               ///< vertex: its index
+  Vec3 box_min = Vec3::Zero();      ///< m, box: the corner with the smallest coordinates
+  Vec3 box_max = Vec3::Zero();      ///< m, box: the opposite corner
+  Vec3 ball_center = Vec3::Zero();  ///< m, ball: its centre
+  double ball_radius = 0.0;         ///< m, ball: its radius, > 0
   /// Keyed motion of the pinned particles, about their centre at the start (or motion.pivot);
   /// none: they stay where they start
   MotionDef motion = {};
@@ -72,6 +75,13 @@ struct Pin {
     p.kind = PinKind::box;
     p.box_min = lo;
     p.box_max = hi;
+    return p;
+  }
+  static Pin in_ball(const Vec3& center, double radius) {
+    Pin p;
+    p.kind = PinKind::ball;
+    p.ball_center = center;
+    p.ball_radius = radius;
     return p;
   }
 };

@@ -54,7 +54,8 @@ std::vector<int32_t> pin_particles(const ClothDef& def, const ClothModel& model,
         if (!g.present())
           throw InputError(path,
                            "a grid index or corner name needs a grid cloth; pin a mesh "
-                           "by {\"vertex\": i} or {\"box\": {\"min\": [...], \"max\": [...]}}");
+                           "by {\"vertex\": i}, {\"box\": {\"min\": [...], \"max\": [...]}} or "
+                           "{\"ball\": {\"center\": [...], \"radius\": r}}");
         out.push_back(
             g.index(p.col < 0 ? p.col + g.cols : p.col, p.row < 0 ? p.row + g.rows : p.row));
         break;
@@ -67,14 +68,16 @@ std::vector<int32_t> pin_particles(const ClothDef& def, const ClothModel& model,
                                                  std::to_string(model.size() - 1) + ")");
         out.push_back(p.vertex);
         break;
-      case PinKind::box: {
-        const size_t before = out.size();
+      case PinKind::box:
+      case PinKind::ball: {
+        const bool box = p.kind == PinKind::box;
         for (int32_t i = 0; i < model.size(); ++i) {
           const Vec3& x = model.rest_position[i];
-          if ((x.array() >= p.box_min.array()).all() && (x.array() <= p.box_max.array()).all())
+          if (box ? (x.array() >= p.box_min.array()).all() && (x.array() <= p.box_max.array()).all()
+                  : (x - p.ball_center).norm() <= p.ball_radius)
             out.push_back(i);
         }
-        if (out.size() == before) {
+        if (out.empty()) {
           Vec3 lo = model.rest_position[0], hi = lo;
           for (const Vec3& x : model.rest_position) {
             lo = lo.cwiseMin(x);
@@ -85,7 +88,7 @@ std::vector<int32_t> pin_particles(const ClothDef& def, const ClothModel& model,
                         "holds no vertex of the cloth (the cloth spans [%.4g, %.4g, %.4g] to "
                         "[%.4g, %.4g, %.4g] at the start)",
                         lo.x(), lo.y(), lo.z(), hi.x(), hi.y(), hi.z());
-          throw InputError(path + ".box", problem);
+          throw InputError(path + (box ? ".box" : ".ball"), problem);
         }
         break;
       }

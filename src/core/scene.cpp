@@ -175,8 +175,9 @@ void check(const SceneDef& def) {
     switch (p.kind) {
       case PinKind::grid: {
         require(!c.mesh, path,
-                "a grid index or corner name needs a grid cloth; pin a mesh by {\"vertex\": i} "
-                "or {\"box\": {\"min\": [x, y, z], \"max\": [x, y, z]}}");
+                "a grid index or corner name needs a grid cloth; pin a mesh by {\"vertex\": i}, "
+                "{\"box\": {\"min\": [x, y, z], \"max\": [x, y, z]}} or {\"ball\": "
+                "{\"center\": [x, y, z], \"radius\": r}}");
         if (p.col >= -c.cols && p.col < c.cols && p.row >= -c.rows && p.row < c.rows) break;
         char problem[200];
         std::snprintf(problem, sizeof problem,
@@ -200,6 +201,10 @@ void check(const SceneDef& def) {
           require(p.box_min[a] <= p.box_max[a], path + ".box",
                   std::string("min is above max along ") + "xyz"[a] + " (" + num(p.box_min[a]) +
                       " > " + num(p.box_max[a]) + ")");
+        break;
+      case PinKind::ball:
+        finite(p.ball_center, path + ".ball.center");
+        range(p.ball_radius, 0.0, 1e6, path + ".ball.radius", true);
         break;
     }
   }

@@ -178,8 +178,9 @@ Pin read_pin(const json& p, const std::string& at) {
     if (name == "bottom-right") return {-1, -1};
     fail(at, "unknown corner \"" + shown(name) +
                  "\"; expected \"top-left\", \"top-right\", \"bottom-left\", "
-                 "\"bottom-right\", a grid index [col, row], {\"vertex\": i} or {\"box\": "
-                 "{\"min\": [x, y, z], \"max\": [x, y, z]}}");
+                 "\"bottom-right\", a grid index [col, row], {\"vertex\": i}, {\"box\": "
+                 "{\"min\": [x, y, z], \"max\": [x, y, z]}} or {\"ball\": {\"center\": "
+                 "[x, y, z], \"radius\": r}}");
   }
   if (p.is_object() && p.contains("pin")) {
     // {"pin": <any pin form>, "motion": {...}}: the form's particles follow the motion.
@@ -196,11 +197,24 @@ Pin read_pin(const json& p, const std::string& at) {
     Reader r(p, at);
     const json* vertex = r.find("vertex");
     const json* box = r.find("box");
-    if ((vertex != nullptr) == (box != nullptr))
-      fail(at, "expected {\"vertex\": i} or {\"box\": {\"min\": [x, y, z], \"max\": [x, y, z]}}");
+    const json* ball = r.find("ball");
+    if ((vertex != nullptr) + (box != nullptr) + (ball != nullptr) != 1)
+      fail(at,
+           "expected one of {\"vertex\": i}, {\"box\": {\"min\": [x, y, z], \"max\": "
+           "[x, y, z]}} or {\"ball\": {\"center\": [x, y, z], \"radius\": r}}");
     Pin pin;
     if (vertex) {
       pin = Pin::at_vertex(Reader::as_integer(*vertex, at + ".vertex"));
+    } else if (ball) {
+      Reader b(*ball, at + ".ball");
+      Vec3 center = Vec3::Zero();
+      double radius = 0.0;
+      if (!b.find("center")) fail(at + ".ball.center", "missing");
+      if (!b.find("radius")) fail(at + ".ball.radius", "missing");
+      b.vec3("center", center);
+      b.number("radius", radius);
+      b.finish();
+      pin = Pin::in_ball(center, radius);
     } else {
       Reader b(*box, at + ".box");
       Vec3 lo = Vec3::Zero(), hi = Vec3::Zero();
@@ -215,7 +229,9 @@ Pin read_pin(const json& p, const std::string& at) {
     r.finish();
     return pin;
   }
-  Reader::pair(p, at, "integers [col, row], a corner name, {\"vertex\": i} or {\"box\": ...}");
+  Reader::pair(p, at,
+               "integers [col, row], a corner name, {\"vertex\": i}, {\"box\": ...} or "
+               "{\"ball\": ...}");
   return {Reader::as_integer(p[0], at + "[0]"), Reader::as_integer(p[1], at + "[1]")};
 }
 
@@ -712,6 +728,17 @@ SceneDef load_scene(const std::string& file, const std::vector<std::string>& ove
   return parse_scene(load_scene_json(file, overrides), source_name(file), scene_folder(file));
 }
 
+json material_json(const MaterialDef& m) {
+  json out = {{"density", m.density},
+              {"stretch", {m.stretch.x(), m.stretch.y()}},
+              {"shear", m.shear},
+              {"bending", {m.bending.x(), m.bending.y()}},
+              {"compression", m.compression},
+              {"damping", m.damping}};
+  if (!m.name.empty()) out["preset"] = m.name;
+  return out;
+}
+
 json to_json(const SceneDef& d) {
   auto v3 = [](const Vec3& v) { return json::array({v.x(), v.y(), v.z()}); };
   auto springs = [](const SpringParams& p) {
@@ -737,6 +764,9 @@ json to_json(const SceneDef& d) {
         break;
       case PinKind::box:
         pin = json{{"box", json{{"min", v3(p.box_min)}, {"max", v3(p.box_max)}}}};
+        break;
+      case PinKind::ball:
+        pin = json{{"ball", json{{"center", v3(p.ball_center)}, {"radius", p.ball_radius}}}};
         break;
     }
     // A moving pin in the {"pin": form, "motion": ...} form, which holds any form.
@@ -785,14 +815,7 @@ json to_json(const SceneDef& d) {
                                                          {"friction", c.self_collision.friction}}
                                                   : json(false)}};
   if (c.material) {
-    const MaterialDef& m = *c.material;
-    cloth["material"] = {{"density", m.density},
-                         {"stretch", {m.stretch.x(), m.stretch.y()}},
-                         {"shear", m.shear},
-                         {"bending", {m.bending.x(), m.bending.y()}},
-                         {"compression", m.compression},
-                         {"damping", m.damping}};
-    if (!m.name.empty()) cloth["material"]["preset"] = m.name;
+    cloth["material"] = material_json(*c.material);
   } else {
     cloth["mass"] = c.mass;
     cloth["springs"] = {{"structural", springs(c.structural)},

@@ -43,6 +43,9 @@ void apply_override(nlohmann::json& scene, const std::string& assignment);
 /// Throws InputError at `path`.
 MaterialDef read_material(const nlohmann::json& v, const std::string& path);
 
+/// The object read_material reads back as `m`.
+nlohmann::json material_json(const MaterialDef& m);
+
 /// Every key of a scene, with every value given: parse_scene(to_json(d)) reproduces d.
 nlohmann::json to_json(const SceneDef& def);
 
