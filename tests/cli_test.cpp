@@ -20,7 +20,9 @@ using nlohmann::json;
 
 using Result = drape::testing_support::CommandResult;
 
-Result drape(const std::string& args) { return drape::testing_support::run_drape(args); }
+Result drape(const std::string& args) {
+  return drape::testing_support::run_drape(args);
+}
 
 std::string scene(const std::string& name) {
   return std::string(DRAPE_SOURCE_DIR) + "/scenes/" + name + ".json";
@@ -54,11 +56,27 @@ TEST_F(Cli, EveryShippedSceneRunsAndWritesItsStats) {
     ASSERT_EQ(r.code, 0) << r.output;
     EXPECT_NE(r.output.find("frames"), std::string::npos);
     const json s = read_json(stats);
-    for (const char* key : {"status", "diverged_frame", "method", "particles", "springs", "frames",
-                            "substeps_per_frame", "sim_seconds", "wall_seconds", "setup_ms",
-                            "ms_per_frame", "kinetic_energy", "max_strain", "mean_strain",
-                            "max_penetration", "pinned_drift", "finite", "state_bytes",
-                            "model_bytes", "workspace_bytes", "bytes_per_particle",
+    for (const char* key : {"status",
+                            "diverged_frame",
+                            "method",
+                            "particles",
+                            "springs",
+                            "frames",
+                            "substeps_per_frame",
+                            "sim_seconds",
+                            "wall_seconds",
+                            "setup_ms",
+                            "ms_per_frame",
+                            "kinetic_energy",
+                            "max_strain",
+                            "mean_strain",
+                            "max_penetration",
+                            "pinned_drift",
+                            "finite",
+                            "state_bytes",
+                            "model_bytes",
+                            "workspace_bytes",
+                            "bytes_per_particle",
                             "self_intersections"})
       EXPECT_TRUE(s.contains(key)) << name << " lacks " << key;
     EXPECT_DOUBLE_EQ(s["bytes_per_particle"].get<double>(),
@@ -112,8 +130,8 @@ TEST_F(Cli, AMeshExportsItsOwnTrianglesAndTextureCoordinatesAsItHadThem) {
   const std::string out = path("skirt");
   const Result r = drape("run " + scene("skirt") + " --seconds 0.05 --export " + out + " --quiet");
   ASSERT_EQ(r.code, 0) << r.output;
-  std::ifstream in(fs::path(out) / "frame_00003.obj"), mesh(std::string(DRAPE_SOURCE_DIR) +
-                                                             "/meshes/skirt.obj");
+  std::ifstream in(fs::path(out) / "frame_00003.obj"),
+      mesh(std::string(DRAPE_SOURCE_DIR) + "/meshes/skirt.obj");
   auto count = [](std::ifstream& f, std::vector<std::string>& faces) {
     std::map<std::string, int> n;
     for (std::string line; std::getline(f, line);) {
@@ -427,6 +445,45 @@ TEST_F(Cli, CompareTakesAMethodListAndRejectsUnknownMethods) {
   const Result bad = drape("compare " + scene("hang") + " --methods xpbd,magic");
   EXPECT_EQ(bad.code, 2);
   EXPECT_NE(bad.output.find("unknown method \"magic\""), std::string::npos) << bad.output;
+}
+
+TEST_F(Cli, LabRefusesAnUnknownMaterialAndABadMaterialFileNamingTheField) {
+  Result r = drape("lab cantilever --material velvet");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.output.find("--material: unknown material \"velvet\"; the presets are"),
+            std::string::npos)
+      << r.output;
+  std::ofstream(path("m.json")) << R"({"preset": "denim", "density": -1})";
+  r = drape("lab cusick --no-picture --material " + path("m.json"));
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.output.find("m.json: density:"), std::string::npos) << r.output;
+  r = drape("lab cusick --no-picture --material " + path("none.json"));
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.output.find("none.json: no such file"), std::string::npos) << r.output;
+  r = drape("lab cantilever --material denim --set cloth.pins=[]");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.output.find("cloth.pins"), std::string::npos) << r.output;
+}
+
+TEST_F(Cli, LabCusickPrintsJsonAndWritesItsTopViewOnlyWhereAsked) {
+  std::ofstream(path("m.json")) << R"({"preset": "knit", "bending": 30e-6})";
+  const std::string picture = path("top.png");
+  Result r = drape("lab cusick --material " + path("m.json") +
+                   " --resolution 8 --seconds 1 --json --picture " + picture);
+  ASSERT_EQ(r.code, 0) << r.output;
+  const json j = json::parse(r.output.substr(r.output.find('{')));
+  EXPECT_EQ(j["test"], "cusick");
+  EXPECT_EQ(j["material"], "knit");
+  EXPECT_GT(j["drape_coefficient_percent"].get<double>(), 0.0);
+  EXPECT_LT(j["drape_coefficient_percent"].get<double>(), 100.0);
+  EXPECT_EQ(j["hem_radius_m"].size(), 360u);
+#ifdef DRAPE_TEST_HAVE_RENDER
+  EXPECT_TRUE(fs::exists(picture));
+  // An existing picture is not replaced without --force.
+  r = drape("lab cusick --material knit --resolution 8 --seconds 0.5 --picture " + picture);
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.output.find("already exists; pass --force"), std::string::npos) << r.output;
+#endif
 }
 
 }  // namespace

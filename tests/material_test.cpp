@@ -13,6 +13,7 @@
 #include "forces.h"
 #include "forces/bending.h"
 #include "io/scene_io.h"
+#include "lab/elastica.h"
 
 namespace drape {
 namespace {
@@ -66,11 +67,10 @@ TEST(MaterialScene, PresetByNameOrObjectAndErrorsNameTheKeys) {
   EXPECT_EQ(d.forces.air_drag, 0.0);
   EXPECT_EQ(d.forces.air_density, 1.225);
 
-  d = io::parse_scene(
-      json::parse(R"({"cloth": {"material": {"preset": "knit", "compression": 0.3,
+  d = io::parse_scene(json::parse(R"({"cloth": {"material": {"preset": "knit", "compression": 0.3,
                                              "bending": [1e-5, 2e-5]}},
                       "forces": {"air_drag": 0.02}})"),
-      "t");
+                      "t");
   EXPECT_EQ(d.cloth.material->density, 0.187);
   EXPECT_EQ(d.cloth.material->compression, 0.3);
   EXPECT_EQ(d.cloth.material->bending, Vec2(1e-5, 2e-5));
@@ -95,7 +95,8 @@ TEST(MaterialScene, PresetByNameOrObjectAndErrorsNameTheKeys) {
   }
   EXPECT_NE(error(R"({"cloth": {"material": "denim", "springs": {}}})").find("cloth.springs"),
             std::string::npos);
-  EXPECT_NE(error(R"({"cloth": {"material": "silk"}})").find("unknown material"), std::string::npos);
+  EXPECT_NE(error(R"({"cloth": {"material": "silk"}})").find("unknown material"),
+            std::string::npos);
   EXPECT_NE(error(R"({"cloth": {"material": {"density": 0.2}}})").find("cloth.material.stretch"),
             std::string::npos);
   EXPECT_NE(error(R"({"cloth": {"material": {"preset": "denim", "compression": 2}}})")
@@ -153,8 +154,8 @@ TEST(MaterialModel, SheetStiffnessOnAnIrregularMeshIsNearTheMaterials) {
     RecordProperty("stretch_u_" + std::to_string(n), std::to_string(su));
     EXPECT_NEAR(su / 2002.08618, 1.0, 0.3) << n;
     EXPECT_NEAR(sv / 2027.48559, 1.0, 0.3) << n;
-    std::printf("jittered mesh %d²: measured stretch %.1f and %.1f N/m against 2002 and 2027\n",
-                n, su, sv);
+    std::printf("jittered mesh %d²: measured stretch %.1f and %.1f N/m against 2002 and 2027\n", n,
+                su, sv);
   }
 }
 
@@ -260,41 +261,6 @@ TEST(AreaDrag, TerminalSpeedIsTheSameAtEveryResolution) {
   }
 }
 
-// The elastica of a strip clamped horizontally at s = 0 and free at s = L under its weight w
-// per area: B·θ'' = −w·(L − s)·cos θ, θ(0) = 0, θ'(L) = 0, θ measured down from horizontal.
-// Solved by shooting on θ'(0) with RK4; returns the tip's drop ∫ sin θ ds.
-double elastica_tip_drop(double B, double w, double L) {
-  const int steps = 4000;
-  const double ds = L / steps;
-  auto shoot = [&](double slope0, double* drop) {
-    double th = 0.0, dth = slope0, y = 0.0;
-    auto f = [&](double s, double t, double dt) {
-      return std::array<double, 3>{dt, -w / B * (L - s) * std::cos(t), std::sin(t)};
-    };
-    for (int i = 0; i < steps; ++i) {
-      const double s = i * ds;
-      const auto k1 = f(s, th, dth);
-      const auto k2 = f(s + ds / 2, th + ds / 2 * k1[0], dth + ds / 2 * k1[1]);
-      const auto k3 = f(s + ds / 2, th + ds / 2 * k2[0], dth + ds / 2 * k2[1]);
-      const auto k4 = f(s + ds, th + ds * k3[0], dth + ds * k3[1]);
-      th += ds / 6 * (k1[0] + 2 * k2[0] + 2 * k3[0] + k4[0]);
-      dth += ds / 6 * (k1[1] + 2 * k2[1] + 2 * k3[1] + k4[1]);
-      y += ds / 6 * (k1[2] + 2 * k2[2] + 2 * k3[2] + k4[2]);
-    }
-    if (drop) *drop = y;
-    return dth;  // θ'(L), to be 0
-  };
-  // θ'(L) grows with θ'(0): bisect between a slope that falls short and one that overshoots.
-  double lo = 0.0, hi = 10.0 * w * L * L / B + 1.0;
-  for (int it = 0; it < 200; ++it) {
-    const double mid = 0.5 * (lo + hi);
-    (shoot(mid, nullptr) < 0.0 ? lo : hi) = mid;
-  }
-  double drop = 0.0;
-  shoot(0.5 * (lo + hi), &drop);
-  return drop;
-}
-
 // ELASTICA_TRACE=1 prints the tip over time and the residual force at the end;
 // ELASTICA_METHOD, _SUBSTEPS, _DAMPING, _COMPRESSION, _CG and _L override the method, substeps
 // per frame, the material's damping and compression, solver.cg_max_iterations and the free
@@ -322,18 +288,22 @@ TEST(Elastica, AClampedStripSagsAsTheShootingSolutionAtThreeResolutions) {
       const double dx = c.L / cells;
       // The clamp holds the segment between the last two pinned columns level: the strip is
       // clamped at its middle, half a cell before the second column.
-      const double expected = elastica_tip_drop(B, w, c.L + 0.5 * dx);
+      const double expected = lab::elastica_tip(B, w, c.L + 0.5 * dx).drop;
       SceneDef def;
       def.cloth = material_grid(c.preset, cells + 2, 4, c.L + dx, 3 * dx);
       def.cloth.pins.clear();
-      for (int r = 0; r < 4; ++r) def.cloth.pins.push_back({0, r}), def.cloth.pins.push_back({1, r});
+      for (int r = 0; r < 4; ++r)
+        def.cloth.pins.push_back({0, r}), def.cloth.pins.push_back({1, r});
       def.solver.method = Method::implicit;
       def.solver.substeps = 32;
       def.solver.cg_tolerance = 1e-8;
-      if (const char* e = std::getenv("ELASTICA_DAMPING")) def.cloth.material->damping = std::atof(e);
-      if (const char* e = std::getenv("ELASTICA_METHOD")) def.solver.method = *method_from_string(e);
+      if (const char* e = std::getenv("ELASTICA_DAMPING"))
+        def.cloth.material->damping = std::atof(e);
+      if (const char* e = std::getenv("ELASTICA_METHOD"))
+        def.solver.method = *method_from_string(e);
       if (const char* e = std::getenv("ELASTICA_SUBSTEPS")) def.solver.substeps = std::atoi(e);
-      if (const char* e = std::getenv("ELASTICA_COMPRESSION")) def.cloth.material->compression = std::atof(e);
+      if (const char* e = std::getenv("ELASTICA_COMPRESSION"))
+        def.cloth.material->compression = std::atof(e);
       if (const char* e = std::getenv("ELASTICA_CG")) def.solver.cg_max_iterations = std::atoi(e);
       Simulation sim(def);
       const int cols = cells + 2;
@@ -342,7 +312,8 @@ TEST(Elastica, AClampedStripSagsAsTheShootingSolutionAtThreeResolutions) {
         if (f % 30 == 29 && std::getenv("ELASTICA_TRACE")) {
           double y = 0.0;
           for (int r = 0; r < 4; ++r) y += sim.state().x[sim.model().index(cols - 1, r)].y();
-          std::printf("  t=%.2f drop %.5f ke %.3g\n", sim.time(), 1.0 - y / 4, sim.diagnostics().kinetic_energy);
+          std::printf("  t=%.2f drop %.5f ke %.3g\n", sim.time(), 1.0 - y / 4,
+                      sim.diagnostics().kinetic_energy);
         }
       }
       double tip = 0.0;
@@ -353,7 +324,8 @@ TEST(Elastica, AClampedStripSagsAsTheShootingSolutionAtThreeResolutions) {
       if (std::getenv("ELASTICA_TRACE")) {
         // The residual force on the free particles: zero at equilibrium.
         std::vector<Vec3> f(sim.model().size(), Vec3::Zero()), v0(sim.model().size(), Vec3::Zero());
-        for (int32_t i = 0; i < sim.model().size(); ++i) f[i] = sim.model().mass[i] * def.forces.gravity;
+        for (int32_t i = 0; i < sim.model().size(); ++i)
+          f[i] = sim.model().mass[i] * def.forces.gravity;
         forces::add_springs(sim.model(), sim.state().x, v0, f);
         std::vector<Vec3> fb(sim.model().size(), Vec3::Zero());
         forces::add_bending(sim.model(), sim.state().x, v0, fb);
@@ -364,7 +336,8 @@ TEST(Elastica, AClampedStripSagsAsTheShootingSolutionAtThreeResolutions) {
           weight = std::max(weight, sim.model().mass[i] * 9.81);
           bend = std::max(bend, fb[i].norm());
         }
-        std::printf("   residual %.3g N (largest weight %.3g N, bending force %.3g N)\n", worst, weight, bend);
+        std::printf("   residual %.3g N (largest weight %.3g N, bending force %.3g N)\n", worst,
+                    weight, bend);
       }
       if (std::getenv("ELASTICA_TRACE"))
         for (int r = 0; r < 4; ++r) {

@@ -22,6 +22,8 @@ inline constexpr int kExitOutputFailed = 5;
 std::function<int()> add_run_command(CLI::App& app);
 std::function<int()> add_bench_command(CLI::App& app);
 std::function<int()> add_mesh_command(CLI::App& app);
+/// Registers `drape lab cantilever` and `drape lab cusick`: textile tests of a material.
+std::function<int()> add_lab_command(CLI::App& app);
 
 /// Registers `drape render` (frames to PNG without a display, through EGL).
 std::function<int()> add_render_command(CLI::App& app);

@@ -33,7 +33,8 @@ int main(int argc, char** argv) {
                               kExitOutputFailed, 129, 130, 143}) +
              "\nEach command's --help lists the codes it returns, and its options' defaults.");
   std::vector<std::function<int()>> commands{add_run_command(app), add_compare_command(app),
-                                              add_bench_command(app), add_mesh_command(app)};
+                                              add_bench_command(app), add_mesh_command(app),
+                                              add_lab_command(app)};
 #ifdef DRAPE_HAVE_VIEWER
   commands.push_back(add_view_command(app));
 #endif

@@ -1,0 +1,22 @@
+// Stepping a simulation until the cloth comes to rest: what both lab tests wait for before
+// they measure.
+#pragma once
+
+#include <functional>
+
+#include "drape/simulation.h"
+
+namespace drape::lab {
+
+struct Settled {
+  int frames = 0;        ///< frames stepped
+  bool at_rest = false;  ///< every particle slower than the speed asked for, several frames running
+  bool failed = false;   ///< the simulation diverged or was stopped
+};
+
+/// Steps `sim` until no particle moves faster than `speed` (m/s) for 5 frames running, at least
+/// `least` and at most `most` frames. `each_frame`, if given, is called with the frames done.
+Settled settle(Simulation& sim, double speed, int least, int most,
+               const std::function<void(int)>& each_frame = {});
+
+}  // namespace drape::lab
