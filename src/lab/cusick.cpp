@@ -115,12 +115,14 @@ nlohmann::json cusick_scene(const nlohmann::json& material) {
             {"pins", {{{"ball", {{"center", {0.0, h, 0.0}}, {"radius", r}}}}}}}},
           {"forces",
            {{"gravity", {0.0, -9.81, 0.0}}, {"air_density", 1.225}, {"drag_coefficient", 1.2}}},
-          // The pedestal: its rounded top lies below the clamped disc, its side at the clamp's rim.
+          // The clamp is the ball pin: the particles on the pedestal's disc stay where they
+          // lie, as between the drapemeter's two discs. The column under them is thin (a rod
+          // of 1 cm radius, out of reach of the hanging ring).
           {"colliders",
            {{{"type", "capsule"},
-             {"a", {0.0, 0.0, 0.0}},
-             {"b", {0.0, h - r - 0.005, 0.0}},
-             {"radius", r},
+             {"a", {0.0, h - 0.08, 0.0}},
+             {"b", {0.0, h - 0.015, 0.0}},
+             {"radius", 0.01},
              {"friction", 0.3}}}},
           {"solver", {{"method", "implicit"}, {"dt", 1.0 / 60.0}}},
           {"duration", 6.0}};

@@ -20,10 +20,10 @@ namespace drape::lab {
 
 inline constexpr double kSpecimenRadius = 0.15;  ///< m
 inline constexpr double kPedestalRadius = 0.09;  ///< m
-inline constexpr double kPedestalHeight = 0.5;   ///< m, where the specimen is clamped
+inline constexpr double kPedestalHeight = 0.2;   ///< m, where the specimen is clamped
 
 /// The test's scene without its cloth's shape: `material` (as cloth.material holds it) clamped
-/// by a ball pin of the pedestal's radius at its centre, the pedestal a capsule below it.
+/// by a ball pin of the pedestal's radius at its centre, on a thin column (a capsule).
 /// Overrides apply to this JSON; then use_cusick_specimen gives the cloth its disc.
 nlohmann::json cusick_scene(const nlohmann::json& material);
 

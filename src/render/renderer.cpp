@@ -1,8 +1,8 @@
 #include "render/renderer.h"
 
 #include <algorithm>
-#include <cstdio>
 #include <cmath>
+#include <cstdio>
 #include <stdexcept>
 
 #include <glm/gtc/matrix_transform.hpp>
@@ -571,7 +571,10 @@ void Renderer::draw(const OrbitCamera& camera, const PixelRect& rect, const Clot
     if (options.pins)
       for (size_t i = 0; i < x_.size(); ++i)
         if (pinned_[i]) push(line_data_, x_[i], kPin);
-    draw_lines(line_data_, GL_POINTS, view_proj, size);
+    // A few pins are markers; a pinned region (a clamp holding hundreds of particles) would hide
+    // the cloth under full-size dots, so it is dotted finely.
+    const bool region = line_data_.size() > 64 * 6;  // six floats (position, colour) a point
+    draw_lines(line_data_, GL_POINTS, view_proj, region ? std::max(2.0f, 0.3f * size) : size);
     // The cursor's particle stays visible behind folds: the hand is on it.
     line_data_.clear();
     const int32_t mark = options.held >= 0 ? options.held : options.highlighted;
