@@ -10,9 +10,10 @@
 #include <omp.h>
 #endif
 
-#include "shipped_scenes.h"
+#include "drape/error.h"
 #include "drape/simulation.h"
 #include "io/scene_io.h"
+#include "shipped_scenes.h"
 #include "test_scenes.h"
 
 namespace drape {
@@ -47,6 +48,16 @@ TEST(Determinism, EachShippedSceneAndMethodHashesTheSameTwice) {
       SceneDef def = shipped(name);
       if (def.cloth.material && method == Method::xpbd) continue;  // refused: not yet supported
       def.solver.method = method;
+      if (method == Method::symplectic) {
+        // A stiff material on fine cells needs more explicit substeps than max_substeps allows
+        // (cusick: about 18,000 a frame): refused, naming solver.substeps; nothing to hash.
+        try {
+          Simulation probe(def);
+        } catch (const InputError& e) {
+          EXPECT_EQ(e.path(), "solver.substeps") << name << ": " << e.what();
+          continue;
+        }
+      }
       const uint64_t first = run(def, 20), second = run(def, 20);
       EXPECT_EQ(first, second) << name << " " << to_string(method);
     }

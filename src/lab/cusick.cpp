@@ -15,10 +15,13 @@ constexpr double kPi = std::numbers::pi;
 constexpr int kShadowPixels = 640;
 constexpr double kShadowWidth = 2.0 * kSpecimenRadius + 0.04;  // m, the specimen and a margin
 
-Shadow cast_shadow(const std::vector<Vec3>& x, const std::vector<Triangle>& triangles) {
+}  // namespace
+
+Shadow cast_shadow(const std::vector<Vec3>& x, const std::vector<Triangle>& triangles, double width,
+                   int pixels) {
   Shadow s;
-  s.size = kShadowPixels;
-  s.width = kShadowWidth;
+  s.size = pixels;
+  s.width = width;
   s.covered.assign(static_cast<size_t>(s.size) * s.size, 0);
   const double px = s.pixel(), half = 0.5 * s.width;
   auto at = [&](const Vec3& p) { return Vec2((p.x() + half) / px, (p.z() + half) / px); };
@@ -46,6 +49,14 @@ Shadow cast_shadow(const std::vector<Vec3>& x, const std::vector<Triangle>& tria
   }
   return s;
 }
+
+double covered_area(const Shadow& s) {
+  int64_t count = 0;
+  for (uint8_t c : s.covered) count += c;
+  return static_cast<double>(count) * s.pixel() * s.pixel();
+}
+
+namespace {
 
 bool covered(const Shadow& s, double x, double z) {
   const int i = static_cast<int>(std::floor((x + 0.5 * s.width) / s.pixel()));
@@ -136,10 +147,8 @@ void use_cusick_specimen(SceneDef& def, int rings) {
 
 CusickMeasure measure_cusick(const std::vector<Vec3>& x, const std::vector<Triangle>& triangles) {
   CusickMeasure m;
-  m.shadow = cast_shadow(x, triangles);
-  int64_t count = 0;
-  for (uint8_t c : m.shadow.covered) count += c;
-  m.area = static_cast<double>(count) * m.shadow.pixel() * m.shadow.pixel();
+  m.shadow = cast_shadow(x, triangles, kShadowWidth, kShadowPixels);
+  m.area = covered_area(m.shadow);
   const double pedestal = kPi * kPedestalRadius * kPedestalRadius;
   const double specimen = kPi * kSpecimenRadius * kSpecimenRadius;
   m.drape_coefficient = 100.0 * (m.area - pedestal) / (specimen - pedestal);

@@ -50,6 +50,12 @@ struct CusickMeasure {
   Shadow shadow;
 };
 
+/// The shadow of a cloth from above on `pixels`² pixels over a square `width` metres wide
+/// centred on the y axis: a pixel is covered when its centre lies inside a triangle's projection.
+Shadow cast_shadow(const std::vector<Vec3>& x, const std::vector<Triangle>& triangles, double width,
+                   int pixels);
+double covered_area(const Shadow& s);  ///< m²
+
 /// Measures a cloth's shadow about the pedestal's axis (x = z = 0).
 CusickMeasure measure_cusick(const std::vector<Vec3>& x, const std::vector<Triangle>& triangles);
 
