@@ -465,6 +465,16 @@ TEST_F(Cli, LabRefusesAnUnknownMaterialAndABadMaterialFileNamingTheField) {
   EXPECT_NE(r.output.find("cloth.pins"), std::string::npos) << r.output;
 }
 
+TEST_F(Cli, ALabRunThatBlowsUpExitsThreeNamingTheFrame) {
+  // Denim on 1 cm cells with one explicit substep a frame is far past symplectic's bound.
+  const Result r = drape(
+      "lab cantilever --material denim --resolution 20 --quiet --set solver.method=symplectic "
+      "--set solver.substeps=1");
+  EXPECT_EQ(r.code, 3) << r.output;
+  EXPECT_NE(r.output.find("lab cantilever: the simulation diverged at frame "), std::string::npos)
+      << r.output;
+}
+
 TEST_F(Cli, LabCusickPrintsJsonAndWritesItsTopViewOnlyWhereAsked) {
   std::ofstream(path("m.json")) << R"({"preset": "knit", "bending": 30e-6})";
   const std::string picture = path("top.png");

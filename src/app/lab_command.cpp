@@ -143,7 +143,7 @@ int cantilever(const LabOptions& o) {
   }
   bar.finish();
   if (r.stopped || r.diverged)
-    return report_failure("cantilever", r.stopped, r.diverged, 0, r.message);
+    return report_failure("cantilever", r.stopped, r.diverged, r.diverged_frame, r.message);
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   int frames = 0;
@@ -250,7 +250,7 @@ int cusick(const LabOptions& o) {
   }
   bar.finish();
   if (r.stopped || r.diverged)
-    return report_failure("cusick", r.stopped, r.diverged, r.frames, r.message);
+    return report_failure("cusick", r.stopped, r.diverged, r.diverged_frame, r.message);
   std::string picture_error;
 #ifdef DRAPE_HAVE_RENDER
   if (!picture.empty()) {

@@ -509,12 +509,22 @@ void Viewer::draw_panel() {
       }
       new_cloth |= ImGui::IsItemDeactivatedAfterEdit();
     }
-    live |= slider("mass (kg)", edit_.cloth.mass, 0.01, 20.0, "%.3g", true);
+    if (const std::optional<MaterialDef>& m = edit_.cloth.material) {
+      // A material sets the masses and the stiffness; the seed's mass and springs do not apply.
+      ImGui::TextWrapped(
+          "material %s: %.3g kg/m2, stretch %.4g/%.4g N/m, shear %.4g N/m, bending %.3g/%.3g "
+          "uN m (warp/weft), compression %.2g",
+          m->name.empty() ? "(given)" : m->name.c_str(), m->density, m->stretch.x(), m->stretch.y(),
+          m->shear, 1e6 * m->bending.x(), 1e6 * m->bending.y(), m->compression);
+    } else {
+      live |= slider("mass (kg)", edit_.cloth.mass, 0.01, 20.0, "%.3g", true);
+    }
     live |= ImGui::Checkbox("self-collision", &edit_.cloth.self_collision.enabled);
     if (edit_.cloth.self_collision.enabled)
       live |= slider("layer friction", edit_.cloth.self_collision.friction, 0.0, 2.0, "%.2f");
     SpringParams* kinds[] = {&edit_.cloth.structural, &edit_.cloth.shear, &edit_.cloth.bending};
-    for (int k = 0; k < kSpringKinds; ++k) {
+    const int shown_kinds = edit_.cloth.material ? 0 : kSpringKinds;
+    for (int k = 0; k < shown_kinds; ++k) {
       // A mesh has no shear springs: its triangles' edges carry shear.
       if (edit_.cloth.mesh && static_cast<SpringKind>(k) == SpringKind::shear) continue;
       ImGui::PushID(k);

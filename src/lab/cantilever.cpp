@@ -83,6 +83,7 @@ CantileverResult run_cantilever(const SceneDef& def, const CantileverProgress& p
     if (s.failed) {
       out.stopped = sim.stopped();
       out.diverged = sim.diverged();
+      out.diverged_frame = sim.diverged_frame();
       out.message = sim.divergence();
       return out;
     }

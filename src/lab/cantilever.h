@@ -6,6 +6,7 @@
 #pragma once
 
 #include <atomic>
+#include <cstdint>
 #include <functional>
 #include <string>
 #include <vector>
@@ -43,8 +44,9 @@ struct CantileverResult {
   /// c = overhang/2 is itself an approximation of it)
   double elastica_overhang = 0.0;
   std::vector<CantileverStage> stages;
-  bool stopped = false;   ///< interrupted (stop flag)
-  bool diverged = false;  ///< the simulation blew up; `message` says where
+  bool stopped = false;         ///< interrupted (stop flag)
+  bool diverged = false;        ///< the simulation blew up; `message` says why
+  int64_t diverged_frame = -1;  ///< the frame it blew up at
   std::string message;
 };
 

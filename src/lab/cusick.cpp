@@ -173,6 +173,7 @@ CusickResult run_cusick(const SceneDef& def, double seconds, const CusickProgres
   if (s.failed) {
     out.stopped = sim.stopped();
     out.diverged = sim.diverged();
+    out.diverged_frame = sim.diverged_frame();
     out.message = sim.divergence();
     return out;
   }

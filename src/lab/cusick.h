@@ -61,10 +61,11 @@ CusickMeasure measure_cusick(const std::vector<Vec3>& x, const std::vector<Trian
 
 struct CusickResult {
   CusickMeasure measure;
-  int frames = 0;         ///< frames simulated before measuring
-  bool at_rest = false;   ///< the cloth came to rest in the frames allowed
-  bool stopped = false;   ///< interrupted (stop flag)
-  bool diverged = false;  ///< the simulation blew up; `message` says where
+  int frames = 0;               ///< frames simulated before measuring
+  bool at_rest = false;         ///< the cloth came to rest in the frames allowed
+  bool stopped = false;         ///< interrupted (stop flag)
+  bool diverged = false;        ///< the simulation blew up; `message` says why
+  int64_t diverged_frame = -1;  ///< the frame it blew up at
   std::string message;
 };
 
