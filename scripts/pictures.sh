@@ -39,6 +39,15 @@ done
 cp "$tmp/pile-false/frame_00240.png" docs/pile-off.png
 cp "$tmp/pile-true/frame_00240.png" docs/pile.png
 
+# A ball at 10 m/s pushing into the curtain (seen from the side it comes from), and a cloth
+# over the torus mesh collider (meshes/torus.obj, made by scripts/torus.py).
+"$drape" render scenes/curtain.json --frames 38 --every 38 --size 640x400 --yaw 130 --pitch 10 \
+  --zoom 1 --quiet --out "$tmp/curtain"
+cp "$tmp/curtain/frame_00038.png" docs/curtain.png
+"$drape" render scenes/torus.json --frames 240 --every 240 --size 640x400 --pitch 40 --zoom 2 \
+  --quiet --out "$tmp/torus"
+cp "$tmp/torus/frame_00240.png" docs/torus.png
+
 # The ground scene exported as one .glb, imported by Blender and rendered (Eevee) at 0.5, 1.4
 # and 3 s of its animation.
 if command -v blender >/dev/null; then

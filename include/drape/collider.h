@@ -218,6 +218,14 @@ inline bool position_contact(const Collider& c, Vec3& x, Vec3& move) {
 /// Resolves contacts for every free particle (1/m > 0), each collider in turn.
 void resolve_contacts(const std::vector<Collider>& colliders, ClothState& state);
 
+/// resolve_contacts, keeping the cloth's triangles out of moving spheres and capsules as well
+/// (src/core/collision/triangle_contact.h says why): collider after collider (a sweep's poses
+/// in order), the particles and then each triangle whose point nearest the body comes closer
+/// than the thickness are moved out, and the inward velocity of that point relative to the
+/// surface removed.
+void resolve_contacts(const std::vector<Collider>& colliders, const ClothModel& model,
+                      ClothState& state);
+
 /// Deepest distance of a particle inside any collider's surface (thickness not counted), m.
 double max_penetration(const std::vector<Collider>& colliders, const std::vector<Vec3>& x);
 

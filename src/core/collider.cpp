@@ -4,6 +4,7 @@
 #include <limits>
 
 #include "collision/motion.h"
+#include "collision/triangle_contact.h"
 #include "collision/triangle_shape.h"
 #include "parallel.h"
 
@@ -128,6 +129,37 @@ void resolve_contacts(const std::vector<Collider>& colliders, ClothState& state)
   for (int32_t i = 0; i < n; ++i) {
     if (state.inv_mass[i] == 0.0) continue;
     for (const Collider& c : colliders) resolve_contact(c, state.x[i], state.v[i]);
+  }
+}
+
+void resolve_contacts(const std::vector<Collider>& colliders, const ClothModel& model,
+                      ClothState& state) {
+  if (!any_holds_triangles_out(colliders)) return resolve_contacts(colliders, state);
+  const int32_t n = static_cast<int32_t>(state.x.size());
+  for (const Collider& c : colliders) {
+#pragma omp parallel for schedule(static) if (worth_threads(n))
+    for (int32_t i = 0; i < n; ++i)
+      if (state.inv_mass[i] != 0.0) resolve_contact(c, state.x[i], state.v[i]);
+    if (!holds_triangles_out(c)) continue;
+    for (const Triangle& t : model.triangles) {
+      TrianglePush push;
+      if (!triangle_push(c, state.x[t[0]], state.x[t[1]], state.x[t[2]], state.inv_mass[t[0]],
+                         state.inv_mass[t[1]], state.inv_mass[t[2]], push))
+        continue;
+      // The point's inward velocity relative to the surface is removed the same way.
+      Vec3 point = Vec3::Zero(), v = Vec3::Zero();
+      double sum = 0.0;
+      for (int k = 0; k < 3; ++k) {
+        state.x[t[k]] += push.d[k];
+        point += push.w[k] * state.x[t[k]];
+        v += push.w[k] * state.v[t[k]];
+        sum += push.w[k] * push.w[k] * state.inv_mass[t[k]];
+      }
+      const double vn = (v - c.surface_velocity(point)).dot(push.n);
+      if (vn >= 0.0) continue;
+      for (int k = 0; k < 3; ++k)
+        state.v[t[k]] += (push.w[k] * state.inv_mass[t[k]] * -vn / sum) * push.n;
+    }
   }
 }
 

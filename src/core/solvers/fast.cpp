@@ -172,7 +172,7 @@ class Fast final : public Solver {
         }
       }
       w.attachments.apply(s, true);
-      resolve_contacts(w.colliders, s);
+      resolve_contacts(w.colliders, w.model, s);
     }
     update_normals(m, s);
   }

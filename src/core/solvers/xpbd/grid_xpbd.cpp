@@ -78,6 +78,7 @@ class GridXpbd final : public Solver {
     cols_ = m.grid.cols;
     rows_ = m.grid.rows;
     grid_.prepare(cols_, rows_);
+    triangles_.clear();
     const int32_t n = m.size(), slots = grid_.size();
     // Padding slots stay at zero: they never move. The slack is for Lanes::load.
     particles_.resize(slots, Lanes<Real>::kLanes);
@@ -123,6 +124,9 @@ class GridXpbd final : public Solver {
     const double drag = w.forces.air_drag;
     const bool read = !current_;
     particles_.read_pins(s, w.attachments);
+    if (w.colliders_move() && triangles_.empty())
+      triangles_ = triangle_slots(m, [&](int32_t i) { return grid_.slot(i); });
+    const bool triangles = w.colliders_move();
 
 #pragma omp parallel if (worth_threads(n))
     {
@@ -159,7 +163,7 @@ class GridXpbd final : public Solver {
           }
           if (attached_) apply_attachments();
         }
-        finish_substep(w.colliders, h);
+        finish_substep(w.colliders, h, triangles);
       }
 #pragma omp for schedule(static)
       for (int32_t i = 0; i < n; ++i) particles_.write(s, i, grid_.slot(i));
@@ -173,7 +177,7 @@ class GridXpbd final : public Solver {
   }
   int64_t workspace_bytes() const override {
     return particles_.bytes() +
-           heap_bytes(scratch_, families_, lambda_, col_slot_, row_fixed_, col_fixed_,
+           heap_bytes(scratch_, triangles_, families_, lambda_, col_slot_, row_fixed_, col_fixed_,
                       fixed_columns_, rows_n_.x, rows_n_.y, rows_n_.z, rows_b_, rows_r_, rows_dl_,
                       twist_beta_, twist_g_, twist_fe_, twist_fg_, twist_dl_) +
            row_chains_.bytes() + col_chains_.bytes();
@@ -802,8 +806,18 @@ class GridXpbd final : public Solver {
     particles_.contacts(colliders, r * grid_.stride, (r + 1) * grid_.stride);
   }
 
-  // Contacts, then v = move/h.
-  void finish_substep(const std::vector<Collider>& colliders, Real h) {
+  // Contacts, then v = move/h; with `triangles`, the triangles against moving bodies between
+  // the two.
+  void finish_substep(const std::vector<Collider>& colliders, Real h, bool triangles) {
+    if (triangles) {
+      resolve_contacts(colliders);
+#pragma omp single
+      particles_.triangle_contacts(colliders, triangles_);
+#pragma omp for schedule(static)
+      for (int r = 0; r < rows_; ++r)
+        particles_.velocities(h, r * grid_.stride, (r + 1) * grid_.stride);
+      return;
+    }
 #pragma omp for schedule(static)
     for (int r = 0; r < rows_; ++r) {
       contacts_row(colliders, r);
@@ -825,6 +839,7 @@ class GridXpbd final : public Solver {
   int stiff_sweeps_ = 0;
   double stiffest_ = 0.0;  ///< N/m, the stiffest family's stiffness (what stiff sweeps redo)
   Particles<Real> particles_;
+  std::vector<Triangle> triangles_;  ///< corners as slots; built when a collider first moves
   std::vector<Vec3> scratch_;  ///< wind forces, AoS as forces.h writes them
   std::vector<Family> families_;
   AlignedVector<Real> lambda_;  ///< per family and first slot; only with iterations > 1

@@ -169,6 +169,7 @@ class MeshXpbd final : public Solver {
     const ClothModel& m = w.model;
     n_ = m.size();
     still_ = n_;
+    triangles_.clear();
     // The particles, the still slot, and padding to a whole block.
     slots_ = (n_ + 1 + kBlock - 1) / kBlock * kBlock;
     particles_.resize(slots_, L);
@@ -215,6 +216,8 @@ class MeshXpbd final : public Solver {
     const Vec3 g = w.forces.gravity;
     const double drag = w.forces.air_drag;
     const bool read = !current_;
+    if (w.colliders_move() && triangles_.empty()) triangles_ = triangle_slots(m, [](int32_t i) { return i; });
+    const bool triangles = w.colliders_move();
     particles_.read_pins(s, w.attachments);
     const int32_t blocks = slots_ / kBlock;
 
@@ -268,9 +271,16 @@ class MeshXpbd final : public Solver {
               particles_.attachments(b * kBlock, (b + 1) * kBlock);
           }
         }
+        if (triangles) {  // the triangles against moving bodies, after the contacts
+#pragma omp for schedule(static)
+          for (int32_t b = 0; b < blocks; ++b)
+            particles_.contacts(w.colliders, b * kBlock, (b + 1) * kBlock);
+#pragma omp single
+          particles_.triangle_contacts(w.colliders, triangles_);
+        }
 #pragma omp for schedule(static)
         for (int32_t b = 0; b < blocks; ++b) {
-          particles_.contacts(w.colliders, b * kBlock, (b + 1) * kBlock);
+          if (!triangles) particles_.contacts(w.colliders, b * kBlock, (b + 1) * kBlock);
           particles_.velocities(h, b * kBlock, (b + 1) * kBlock);
         }
       }
@@ -283,7 +293,7 @@ class MeshXpbd final : public Solver {
 
   int substeps() const override { return substeps_; }
   int64_t workspace_bytes() const override {
-    int64_t bytes = particles_.bytes() + heap_bytes(scratch_) + all_.bytes() + stiffest_.bytes() +
+    int64_t bytes = particles_.bytes() + heap_bytes(scratch_, triangles_) + all_.bytes() + stiffest_.bytes() +
                     left_over_.bytes();
     for (const ChainLayer<Real>& layer : layers_) bytes += layer.bytes();
     return bytes;
@@ -461,6 +471,7 @@ class MeshXpbd final : public Solver {
   int stiff_sweeps_ = 0;
   bool attached_ = false;
   Particles<Real> particles_;
+  std::vector<Triangle> triangles_;  ///< built when a collider first moves
   std::vector<Vec3> scratch_;  ///< wind forces, AoS as forces.h writes them
   SweepSet<Real> all_;         ///< every spring (with line passes: all but the structural)
   SweepSet<Real> stiffest_;    ///< the stiffest springs (with line passes: the structural)

@@ -10,12 +10,23 @@
 #include <vector>
 
 #include "chains.h"
+#include "collision/triangle_contact.h"
 #include "drape/collider.h"
 #include "forces.h"
 #include "long_range.h"
 #include "parallel.h"
 
 namespace drape::xpbd {
+
+/// The cloth's triangles with their corners as slots (for triangle_contacts), `slot` mapping a
+/// particle to its slot.
+template <typename Slot>
+std::vector<Triangle> triangle_slots(const ClothModel& m, Slot slot) {
+  std::vector<Triangle> triangles;
+  triangles.reserve(m.triangles.size());
+  for (const Triangle& t : m.triangles) triangles.push_back({slot(t[0]), slot(t[1]), slot(t[2])});
+  return triangles;
+}
 
 template <typename Real>
 class Particles {
@@ -244,6 +255,28 @@ class Particles {
         mx[c] = static_cast<Real>(m.x());
         my[c] = static_cast<Real>(m.y());
         mz[c] = static_cast<Real>(m.z());
+      }
+    }
+  }
+
+  // The triangles (corners as slots) against moving spheres and capsules
+  // (collision/triangle_contact.h), one after another: triangles share particles, and such
+  // bodies are few and small.
+  void triangle_contacts(const std::vector<Collider>& colliders,
+                         const std::vector<Triangle>& triangles) {
+    for (const Collider& col : colliders) {
+      if (!holds_triangles_out(col)) continue;
+      for (const Triangle& t : triangles) {
+        TrianglePush push;
+        if (!triangle_push(col, position(t[0]), position(t[1]), position(t[2]),
+                           double(inv_mass[t[0]]), double(inv_mass[t[1]]),
+                           double(inv_mass[t[2]]), push))
+          continue;
+        for (int k = 0; k < 3; ++k) {
+          move.x[t[k]] += static_cast<Real>(push.d[k].x());
+          move.y[t[k]] += static_cast<Real>(push.d[k].y());
+          move.z[t[k]] += static_cast<Real>(push.d[k].z());
+        }
       }
     }
   }
