@@ -266,6 +266,37 @@ TEST(Motion, AColliderIsPosedAtEachSubstepAndItsSurfaceVelocityIsTheMotions) {
   EXPECT_EQ(set.contact().size(), 10u);
 }
 
+// The viewer's Shift-drag: the hand carries a collider from where it is to the new offset over
+// the next frame, so its surface moves at the hand's velocity, and it stays there after.
+TEST(Motion, TheHandCarriesAColliderOverTheNextFrameAtTheHandsVelocity) {
+  ColliderDef ball, ground;
+  ball.radius = 0.1;
+  ground.type = ColliderType::plane;
+  ColliderSet set({ball, ground}, 1.0);
+  EXPECT_FALSE(set.moves());
+  set.hand(0, Vec3(0.3, 0.0, 0.0), 1.0, 1.1);
+  EXPECT_TRUE(set.moves());
+  set.pose(1.0, 1.05);
+  // The ball swept through 3 poses 5 cm apart (half its radius), then the ground.
+  ASSERT_EQ(set.contact().size(), 4u);
+  const Collider& c = set.contact()[2];
+  EXPECT_TRUE(c.center.isApprox(Vec3(0.15, 0.0, 0.0), 1e-12));
+  EXPECT_TRUE(c.surface_velocity(Vec3(0.25, 0.0, 0.0)).isApprox(Vec3(3.0, 0.0, 0.0), 1e-12));
+  EXPECT_FALSE(set.contact().back().moving) << "the ground the hand did not move stands still";
+  set.settle(1.1);
+  EXPECT_TRUE(set.now().front().center.isApprox(Vec3(0.3, 0.0, 0.0), 1e-12));
+  set.pose(1.1, 1.15);
+  EXPECT_TRUE(set.contact().front().surface_velocity(Vec3::Zero()).isZero()) << "at rest after";
+  EXPECT_TRUE(set.contact().front().center.isApprox(Vec3(0.3, 0.0, 0.0), 1e-12));
+  // A new offset starts from where the last one was cut short.
+  set.hand(0, Vec3(0.0, 0.2, 0.0), 1.15, 1.25);
+  set.hand(0, Vec3(0.0, 0.4, 0.0), 1.2, 1.3);
+  set.settle(1.2);
+  EXPECT_TRUE(set.now().front().center.isApprox(Vec3(0.15, 0.1, 0.0), 1e-12));
+  set.settle(1.3);
+  EXPECT_TRUE(set.now().front().center.isApprox(Vec3(0.0, 0.4, 0.0), 1e-12));
+}
+
 // ---- Scene keys -----------------------------------------------------------------------------
 
 std::string error_of(const json& j, const std::string& folder = "") {
@@ -550,6 +581,45 @@ TEST_P(EveryMethod, AFastBallPushesTheCurtainAsideAndNeverTunnelsThroughIt) {
     ASSERT_EQ(b.crossings, 0) << "the ball went through the curtain by frame " << f;
     ASSERT_LT(b.inside, 1e-3) << "a particle inside the ball at frame " << f;
   }
+}
+
+// A patch resting on a ball that the hand carries sideways (the viewer's Shift-drag) goes
+// with it, held by friction; a panel change keeps the ball where the hand left it.
+TEST_P(EveryMethod, TheHandCarriesABallAndTheClothOnIt) {
+  if (GetParam().method == Method::fast)
+    GTEST_SKIP() << "fast applies friction only where its inertial target lies inside a "
+                    "collider, so cloth resting on a moving surface is not carried (README)";
+  SceneDef def = testing_support::with(bare(), GetParam());
+  def.forces.gravity = Vec3(0.0, -9.81, 0.0);
+  def.cloth.width = def.cloth.height = 0.3;
+  def.cloth.orientation = Orientation::horizontal;
+  def.cloth.origin = Vec3(-0.15, 0.52, -0.15);
+  def.cloth.mass = 0.05;
+  ColliderDef ball;
+  ball.radius = 0.5;
+  ball.friction = 1.0;
+  def.colliders = {ball};
+  Simulation sim(def);
+  while (sim.time() < 0.5 - 1e-9) ASSERT_TRUE(sim.step()) << sim.divergence();
+  auto mean_x = [&] {
+    double x = 0.0;
+    for (const Vec3& p : sim.state().x) x += p.x() / sim.model().size();
+    return x;
+  };
+  const double before = mean_x();
+  // 0.2 m in 0.5 s, a step each frame (0.4 m/s), then held.
+  for (int f = 1; f <= 30; ++f) {
+    sim.move_collider(0, Vec3(0.2 * f / 30.0, 0.0, 0.0));
+    sim.move_collider(7, Vec3(1.0, 0.0, 0.0));  // no such collider: ignored
+    ASSERT_TRUE(sim.step()) << sim.divergence();
+  }
+  EXPECT_TRUE(sim.colliders().front().center.isApprox(Vec3(0.2, 0.0, 0.0), 1e-12));
+  EXPECT_NEAR(mean_x() - before, 0.2, 0.05) << "the patch stayed behind";
+  SceneDef changed = sim.def();
+  changed.forces.air_drag = 0.01;
+  ASSERT_TRUE(sim.reconfigure(changed));
+  EXPECT_TRUE(sim.colliders().front().center.isApprox(Vec3(0.2, 0.0, 0.0), 1e-12));
+  EXPECT_TRUE(sim.collider_offset(0).isApprox(Vec3(0.2, 0.0, 0.0), 1e-12));
 }
 
 INSTANTIATE_TEST_SUITE_P(Colliders, EveryMethod, ::testing::ValuesIn(testing_support::kVariants),

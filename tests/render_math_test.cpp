@@ -5,6 +5,8 @@
 #include <limits>
 #include <vector>
 
+#include "drape/collider.h"
+#include "drape/scene.h"
 #include "render/camera.h"
 #include "render/picking.h"
 
@@ -233,6 +235,33 @@ TEST(RenderPicking, DragKeepsTheDistanceAlongTheRay) {
   const glm::dvec2 seen = project_to_pixel(view, proj, vp, target);
   EXPECT_NEAR(seen.x, press.x + 120.0, 1e-6);  // under the cursor
   EXPECT_NEAR(seen.y, press.y - 45.0, 1e-6);
+}
+
+// Shift-drag's pick: the first collider surface along the ray (sphere tracing), planes left out.
+TEST(RenderPicking, TheFirstColliderAlongTheRayIsPickedAtItsSurface) {
+  ColliderDef ground, ball, box;
+  ground.type = ColliderType::plane;
+  ground.center = Vec3(0.0, -1.0, 0.0);
+  ball.center = Vec3(0.0, 0.0, -5.0);
+  ball.radius = 1.0;
+  box.type = ColliderType::box;
+  box.center = Vec3(0.0, 0.0, -10.0);
+  box.half_extents = Vec3(2.0, 2.0, 0.5);
+  const std::vector<Collider> colliders = make_colliders({ground, box, ball});
+  const render::Ray ahead{Vec3::Zero(), -Vec3::UnitZ()};
+  const render::Pick hit = render::first_collider_hit(ahead, colliders);
+  ASSERT_TRUE(hit);
+  EXPECT_EQ(hit.index, 2);  // the ball, in front of the box
+  EXPECT_NEAR(hit.along, 4.0, 1e-3);
+  // Past the ball's side, the box's face at z = −9.5.
+  const render::Pick beside =
+      render::first_collider_hit({Vec3(1.5, 0.0, 0.0), -Vec3::UnitZ()}, colliders);
+  ASSERT_TRUE(beside);
+  EXPECT_EQ(beside.index, 1);
+  EXPECT_NEAR(beside.along, 9.5, 1e-3);
+  // Down at the ground only: nothing (a plane is not carried).
+  EXPECT_FALSE(render::first_collider_hit({Vec3(5.0, 0.0, 0.0), -Vec3::UnitY()}, colliders));
+  EXPECT_FALSE(render::first_collider_hit({Vec3::Zero(), Vec3::UnitZ()}, colliders));
 }
 
 TEST(RenderPicking, HandVelocityIsTheTargetsMotionOverAFrame) {

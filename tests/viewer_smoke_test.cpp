@@ -254,6 +254,30 @@ TEST_F(ViewerSmoke, ScriptedDragHoldsThePickedParticleOnTheRay) {
   EXPECT_GT(x[1] - start[1], 0.0) << j.dump(2);
 }
 
+TEST_F(ViewerSmoke, ShiftDragCarriesTheColliderUnderTheCursor) {
+  const std::string prefix = display_prefix();
+  if (prefix.empty()) GTEST_SKIP() << "no display: DISPLAY is not set and xvfb-run is missing";
+  // The sphere scene's ball (centre at the origin) sits below the middle of the view; Shift-drag
+  // it 100 units right.
+  const std::string report = path("carry.json");
+  const Result r = shell(prefix + DRAPE_EXE + " view " + scene("sphere") +
+                         " --frames 30 --size 640x480 --no-panel --drag 320,300,420,300 --carry"
+                         " --report " +
+                         report);
+  if (r.code == kNoGraphics) GTEST_SKIP() << "no OpenGL 3.3 display: " << r.output;
+  ASSERT_EQ(r.code, 0) << r.output;
+  std::ifstream in(report);
+  const json j = json::parse(in);
+  ASSERT_TRUE(j.contains("carry")) << j.dump(2);
+  const json& c = j.at("carry");
+  ASSERT_EQ(c.at("picked"), 0) << "the ball was not picked: " << j.dump(2);
+  EXPECT_FALSE(j.contains("drag")) << "a particle was dragged too";
+  // Carried where the hand went: well to the right in the view, and the ball is there.
+  EXPECT_GT(double(c.at("offset")[0]), 0.3) << j.dump(2);
+  for (int k = 0; k < 3; ++k)
+    EXPECT_NEAR(double(c.at("center")[k]), double(c.at("offset")[k]), 1e-12) << k;
+}
+
 TEST_F(ViewerSmoke, VideoFramesArePipedToFfmpeg) {
   const std::string bin = fake_ffmpeg();
   const std::string video = path("it's a clip.mp4");  // a quote and a space survive the shell

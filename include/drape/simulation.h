@@ -135,6 +135,13 @@ class Simulation {
   void release(const Vec3& velocity = Vec3::Zero());
   int32_t grabbed() const { return grabbed_; }  ///< -1 when nothing is held
 
+  /// The hand moves collider k (the viewer's Shift-drag): it is carried `offset` (m) from where
+  /// its definition and motion put it, getting there over the next frame, so the cloth it
+  /// touches feels the hand's velocity. Ignored for a k out of range or a non-finite offset.
+  void move_collider(int k, const Vec3& offset);
+  /// Where the hand has carried collider k (zero until it does).
+  Vec3 collider_offset(int k) const;
+
   /// Pins a particle where it is now, or frees it.
   void set_pinned(int32_t particle, bool pinned);
 

@@ -120,6 +120,10 @@ void SimThread::toggle_pin(int32_t particle) {
   });
 }
 
+void SimThread::move_collider(int k, const Vec3& offset) {
+  post([this, k, offset] { sim_->move_collider(k, offset); });
+}
+
 void SimThread::loop(int threads) {
   // OpenMP's thread count belongs to the thread that opens the loops: this one.
   ThreadChooser chooser(threads);
@@ -193,6 +197,8 @@ void SimThread::publish(double step_ms) {
   s->model = model_;
   s->state = sim_->state();
   s->colliders = sim_->colliders();
+  for (int k = 0; k < static_cast<int>(s->colliders.size()); ++k)
+    s->collider_offsets.push_back(sim_->collider_offset(k));
   s->def = sim_->def();
   s->diagnostics = sim_->diagnostics();
   if (step_ms < 0.0 || counted_frame_ < 0 || sim_->frame() - counted_frame_ >= kCountEvery) {

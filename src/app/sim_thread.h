@@ -24,7 +24,8 @@ struct SimSnapshot {
   std::shared_ptr<const ClothModel> model;  ///< shared until the cloth is rebuilt
   ClothState state;
   std::vector<Collider> colliders;
-  SceneDef def;  ///< the settings in effect
+  std::vector<Vec3> collider_offsets;  ///< m, where the hand has carried each (Simulation)
+  SceneDef def;                        ///< the settings in effect
   Diagnostics diagnostics;
   /// Crossing triangle pairs (count_self_intersections), counted every kCountEvery frames and
   /// after every command
@@ -68,6 +69,7 @@ class SimThread {
   void move_grab(const Vec3& target);
   void release(bool with_hand_velocity);  ///< let go (at rest, or flicked)
   void toggle_pin(int32_t particle);
+  void move_collider(int k, const Vec3& offset);  ///< carry collider k `offset` from its place
 
  private:
   void post(std::function<void()> command);

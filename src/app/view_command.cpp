@@ -31,6 +31,7 @@ struct ViewCommandOptions {
   std::string screenshot;
   std::string report;
   std::string drag;
+  bool carry = false;
   int threads = 0;
   bool no_vsync = false;
   bool no_panel = false;
@@ -62,6 +63,8 @@ int view(const ViewCommandOptions& c) {
   try {
     parse_size("--size", c.size, o.width, o.height);
     if (!c.drag.empty()) o.drag = parse_drag(c.drag);
+    if (c.carry && !o.drag) throw InputError("--carry", "needs --drag x0,y0,x1,y1");
+    o.carry = c.carry;
     if ((!o.screenshot.empty() || o.drag || !o.report.empty()) && o.frames <= 0)
       throw InputError("--frames", "--screenshot, --drag and --report need --frames N (N > 0)");
     def = io::load_scene(o.scene, o.sets);
@@ -117,6 +120,8 @@ std::function<int()> add_view_command(CLI::App& app) {
       ->check(kNonEmpty);
   cmd->add_option("--drag", o->drag,
                   "With --frames: press at x0,y0, drag to x1,y1 (window units), hold to the end");
+  cmd->add_flag("--carry", o->carry,
+                "With --drag: hold Shift, carrying the collider under x0,y0 instead of a particle");
   add_threads_option(cmd, o->threads);
   cmd->add_flag("--no-vsync", o->no_vsync, "Draw as fast as possible");
   cmd->add_flag("--no-panel", o->no_panel, "Hide the control panel");

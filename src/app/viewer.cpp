@@ -51,6 +51,7 @@ struct Control {
 constexpr Control kControls[] = {
     {"Left drag", "pull the particle under the cursor"},
     {"Ctrl + left click", "pin or unpin the particle under the cursor"},
+    {"Shift + left drag", "carry the collider under the cursor (its velocity is the hand's)"},
     {"Right drag", "orbit the camera"},
     {"Middle drag, Shift + right drag", "pan"},
     {"Scroll", "zoom"},
@@ -93,7 +94,7 @@ class Viewer {
   bool cloth_bounds(Vec3& lo, Vec3& hi) const;
 
   // Input: the same calls serve the mouse and the scripted drag.
-  void press(double px, double py, bool ctrl);
+  void press(double px, double py, bool ctrl, bool shift);
   void move(double px, double py);
   void release();
   void on_mouse_button(int button, int action, int mods);
@@ -130,6 +131,10 @@ class Viewer {
   render::DrawOptions draw_;
   int32_t held_ = -1;  // the particle the mouse holds (the snapshot may not show it yet)
   double grab_along_ = 0.0;
+  // The collider Shift-drag carries (−1: none): the hand's offset and the ray's point when it
+  // took hold, so the offset follows the point under the cursor in the view plane.
+  int carried_ = -1;
+  Vec3 carried_offset_ = Vec3::Zero(), carried_from_ = Vec3::Zero();
   bool paused_ = false;
   bool show_help_ = false;
   bool flick_ = false;  // release with the hand's velocity
@@ -257,10 +262,21 @@ void Viewer::follow_cloth() {
     camera_.fit(swept_lo_, swept_hi_, aspect, kFitFraction);
 }
 
-void Viewer::press(double px, double py, bool ctrl) {
+void Viewer::press(double px, double py, bool ctrl, bool shift) {
   const render::Viewport vp = viewport();
   if (px < vp.x || px >= vp.x + vp.width || py < vp.y || py >= vp.y + vp.height) return;
   const render::Ray ray = ray_at(px, py);
+  if (shift) {
+    const render::Pick hit = render::first_collider_hit(ray, snap_->colliders);
+    if (!hit) return;
+    carried_ = hit.index;
+    grab_along_ = hit.along;
+    carried_from_ = render::drag_target(ray, grab_along_);
+    carried_offset_ = snap_->collider_offsets.at(carried_);
+    follow_ = false;
+    status_ = "carrying collider " + std::to_string(carried_);
+    return;
+  }
   const render::Pick pick = render::nearest_to_ray(
       ray, snap_->state.x, render::pick_slope(kPickPixels, vp.height, camera_.fov_y));
   if (!pick) return;
@@ -277,11 +293,17 @@ void Viewer::press(double px, double py, bool ctrl) {
 }
 
 void Viewer::move(double px, double py) {
+  if (carried_ >= 0) {
+    const Vec3 to = render::drag_target(ray_at(px, py), grab_along_);
+    sim_->move_collider(carried_, carried_offset_ + (to - carried_from_));
+    return;
+  }
   if (held_ < 0) return;
   sim_->move_grab(render::drag_target(ray_at(px, py), grab_along_));
 }
 
 void Viewer::release() {
+  carried_ = -1;
   if (held_ < 0) return;
   sim_->release(flick_);
   held_ = -1;
@@ -291,7 +313,8 @@ void Viewer::on_mouse_button(int button, int action, int mods) {
   const bool ui = ImGui::GetIO().WantCaptureMouse;
   glfwGetCursorPos(window_, &cursor_x_, &cursor_y_);  // where the press is, moved or not
   if (button == GLFW_MOUSE_BUTTON_LEFT) {
-    if (action == GLFW_PRESS && !ui) press(cursor_x_, cursor_y_, mods & GLFW_MOD_CONTROL);
+    if (action == GLFW_PRESS && !ui)
+      press(cursor_x_, cursor_y_, mods & GLFW_MOD_CONTROL, mods & GLFW_MOD_SHIFT);
     if (action == GLFW_RELEASE) release();
   } else if (button == GLFW_MOUSE_BUTTON_RIGHT) {
     const bool shift = mods & GLFW_MOD_SHIFT;
@@ -360,6 +383,7 @@ bool Viewer::rebuild(const SceneDef& def) {
     // Built here, so a refused definition is reported at once; stepped on the thread.
     auto sim = std::make_unique<Simulation>(def);
     held_ = -1;
+    carried_ = -1;
     if (sim_) {
       sim_->replace(std::move(sim));
     } else {
@@ -743,6 +767,7 @@ int Viewer::run() {
   // Scripted use: one frame per displayed frame, the drag moving before each.
   const bool scripted = o_.frames > 0;
   int32_t dragged = -1;
+  int carried = -1;
   nlohmann::json report;
   using clock = std::chrono::steady_clock;
   const auto start = clock::now();
@@ -758,11 +783,12 @@ int Viewer::run() {
         const auto& g = *o_.drag;
         const int64_t half = std::max<int64_t>(1, o_.frames / 2);
         const double s = std::min(1.0, double(snap_->frame) / double(half));
-        if (snap_->frame == 0 && dragged < 0) {
-          press(g[0], g[1], false);
+        if (snap_->frame == 0 && dragged < 0 && carried < 0) {
+          press(g[0], g[1], false, o_.carry);
           dragged = held_;
-          report["drag"]["picked"] = dragged;
-          report["drag"]["along"] = grab_along_;
+          carried = carried_;
+          report[o_.carry ? "carry" : "drag"]["picked"] = o_.carry ? carried : dragged;
+          report[o_.carry ? "carry" : "drag"]["along"] = grab_along_;
         }
         move(g[0] + s * (g[2] - g[0]), g[1] + s * (g[3] - g[1]));
       }
@@ -779,6 +805,11 @@ int Viewer::run() {
       const double seconds = std::chrono::duration<double>(clock::now() - start).count();
       bool written = o_.screenshot.empty() || save_screenshot(o_.screenshot);
       const SimSnapshot& s = *snap_;
+      if (carried >= 0) {
+        const Vec3 offset = s.collider_offsets.at(carried), at = s.colliders.at(carried).center;
+        report["carry"]["offset"] = {offset.x(), offset.y(), offset.z()};
+        report["carry"]["center"] = {at.x(), at.y(), at.z()};
+      }
       if (dragged >= 0) {
         const render::Ray ray = ray_at((*o_.drag)[2], (*o_.drag)[3]);
         const Vec3 x = s.state.x[dragged];

@@ -28,6 +28,7 @@ struct ViewerOptions {
   /// Scripted drag in window units: press at (x0, y0), move to (x1, y1) over the first half of
   /// the frames, hold until the end.
   std::optional<std::array<double, 4>> drag;
+  bool carry = false;  ///< the scripted drag holds Shift: it carries the collider under it
 };
 
 /// Opens the window and runs until it is closed (or the scripted frames are done). Returns the

@@ -405,7 +405,14 @@ bool Simulation::reconfigure(const SceneDef& def) {
     model_.mass[i] = m;
     if (state_.inv_mass[i] != 0.0) state_.inv_mass[i] = 1.0 / m;
   }
-  colliders_ = std::make_unique<ColliderSet>(def_.colliders, time());
+  // The hand's offsets stay with the colliders that are still there (a panel change does not
+  // send a dragged ball back).
+  auto colliders = std::make_unique<ColliderSet>(def_.colliders, time());
+  for (size_t k = 0; k < std::min(def_.colliders.size(), old.colliders.size()); ++k)
+    if (colliders_->hand_offset(k) != Vec3::Zero())
+      colliders->hand(k, colliders_->hand_offset(k), time(), time());
+  colliders->settle(time());
+  colliders_ = std::move(colliders);
   if (def.solver.method != old.solver.method || def.solver.precision != old.solver.precision)
     solver_ = make_solver(def_.solver, model_);
   if (a.long_range.enabled != b.long_range.enabled || a.long_range.slack != b.long_range.slack)
@@ -446,6 +453,16 @@ void Simulation::release(const Vec3& velocity) {
   grabbed_ = -1;
   prepare_solver();
   rebase_energy();
+}
+
+void Simulation::move_collider(int k, const Vec3& offset) {
+  if (k < 0 || k >= static_cast<int>(def_.colliders.size()) || !offset.allFinite()) return;
+  colliders_->hand(static_cast<size_t>(k), offset, time(), time() + def_.solver.dt);
+}
+
+Vec3 Simulation::collider_offset(int k) const {
+  if (k < 0 || k >= static_cast<int>(def_.colliders.size())) return Vec3::Zero();
+  return colliders_->hand_offset(static_cast<size_t>(k));
 }
 
 void Simulation::set_pinned(int32_t particle, bool pinned) {

@@ -26,6 +26,31 @@ Pick nearest_to_ray(const Ray& ray, std::span<const Vec3> points, double slope) 
   return best;
 }
 
+Pick first_collider_hit(const Ray& ray, std::span<const Collider> colliders, double far) {
+  constexpr double kSurface = 1e-4;  // m: this close counts as a hit
+  constexpr int kMarches = 512;
+  Pick best;
+  best.along = far;
+  for (size_t k = 0; k < colliders.size(); ++k) {
+    const Collider& c = colliders[k];
+    if (c.type == ColliderType::plane) continue;
+    // Each step goes as far as the distance to the surface: it cannot pass through it.
+    double t = 0.0;
+    Vec3 n;
+    for (int i = 0; i < kMarches && t < best.along; ++i) {
+      const double d = signed_distance(c, ray.at(t), n);
+      if (!std::isfinite(d)) break;
+      if (std::abs(d) < kSurface) {
+        best = {static_cast<int32_t>(k), t, 0.0};
+        break;
+      }
+      if (d < 0.0 && t == 0.0) break;  // the eye is inside it: not something to pick
+      t += std::abs(d);
+    }
+  }
+  return best;
+}
+
 double pick_slope(double pixels, double viewport_height, double fov_y) {
   return 2.0 * std::tan(0.5 * fov_y) * pixels / viewport_height;
 }

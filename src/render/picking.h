@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <span>
 
+#include "drape/collider.h"
 #include "drape/math.h"
 #include "render/camera.h"
 
@@ -26,6 +27,11 @@ Pick nearest_to_ray(const Ray& ray, std::span<const Vec3> points, double slope);
 /// The cone slope that makes the pick radius `pixels` wide in a viewport `viewport_height`
 /// window units tall seen with vertical field of view `fov_y` (rad).
 double pick_slope(double pixels, double viewport_height, double fov_y);
+
+/// The first collider a ray meets (not a plane: it has no place to be carried to), by sphere
+/// tracing each one's signed distance: index −1 when it meets none within `far` (m). `along` is
+/// the hit's distance along the ray.
+Pick first_collider_hit(const Ray& ray, std::span<const Collider> colliders, double far = 100.0);
 
 /// Where a held particle goes: the point at the picked distance along the current ray.
 inline Vec3 drag_target(const Ray& ray, double along) {

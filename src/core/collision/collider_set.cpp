@@ -59,11 +59,43 @@ Collider ColliderSet::posed(size_t k, const Pose& p, const Pose& start, double e
   return c;
 }
 
+Pose ColliderSet::pose_of(size_t k, double t) const {
+  Pose p = pose_at(defs_[k].motion, reference_[k], t);
+  if (!hand_to_.empty()) {
+    const double span = hand_t1_ - hand_t0_;
+    const double along = span > 0.0 ? std::clamp((t - hand_t0_) / span, 0.0, 1.0) : 1.0;
+    p.translation += hand_from_[k] + along * (hand_to_[k] - hand_from_[k]);
+  }
+  return p;
+}
+
+void ColliderSet::hand(size_t k, const Vec3& offset, double t0, double t1) {
+  if (hand_to_.empty()) {
+    hand_from_.assign(rest_.size(), Vec3::Zero());
+    hand_to_.assign(rest_.size(), Vec3::Zero());
+    held_.assign(rest_.size(), 0);
+    contact_.reserve(rest_.size() * kMaxSweep);
+    moves_ = true;
+  }
+  // Each one starts from where it is now: the last hand's move has been completed or is cut
+  // short where it stands at t0.
+  for (size_t j = 0; j < rest_.size(); ++j) {
+    const double span = hand_t1_ - hand_t0_;
+    const double along = span > 0.0 ? std::clamp((t0 - hand_t0_) / span, 0.0, 1.0) : 1.0;
+    hand_from_[j] += along * (hand_to_[j] - hand_from_[j]);
+    hand_to_[j] = hand_from_[j];
+  }
+  hand_to_[k] = offset;
+  held_[k] = 1;
+  hand_t0_ = t0;
+  hand_t1_ = t1;
+}
+
 bool ColliderSet::settle(double t) {
   bool moved = false;
   for (size_t k = 0; k < rest_.size(); ++k) {
-    if (!defs_[k].motion.moves()) continue;
-    const Pose p = pose_at(defs_[k].motion, reference_[k], t);
+    if (!moving(k)) continue;
+    const Pose p = pose_of(k, t);
     moved = moved || p.rotation != settled_[k].rotation || p.translation != settled_[k].translation;
     settled_[k] = p;
     now_[k] = posed(k, p, p, 0.0);
@@ -76,12 +108,11 @@ void ColliderSet::pose(double t0, double t1) {
   if (!moves_) return;
   contact_.clear();
   for (size_t k = 0; k < rest_.size(); ++k) {
-    const MotionDef& m = defs_[k].motion;
-    if (!m.moves()) {
+    if (!moving(k)) {
       contact_.push_back(rest_[k]);
       continue;
     }
-    const Pose start = pose_at(m, reference_[k], t0), end = pose_at(m, reference_[k], t1);
+    const Pose start = pose_of(k, t0), end = pose_of(k, t1);
     // How far a point of the surface moves at most: its bounding sphere's centre, plus the
     // turn times the radius (a sphere turning about its own centre keeps its surface).
     const Vec3 centre = rest_[k].bound_center;
@@ -92,7 +123,7 @@ void ColliderSet::pose(double t0, double t1) {
     const int pieces = std::clamp(static_cast<int>(std::ceil(travel / size_[k])), 1, kMaxSweep);
     for (int j = 1; j <= pieces; ++j) {
       const double t = j == pieces ? t1 : t0 + (t1 - t0) * j / pieces;
-      contact_.push_back(posed(k, j == pieces ? end : pose_at(m, reference_[k], t), start, t - t0));
+      contact_.push_back(posed(k, j == pieces ? end : pose_of(k, t), start, t - t0));
       contact_.back().move_time = t - t0;
     }
     now_[k] = contact_.back();
@@ -100,7 +131,8 @@ void ColliderSet::pose(double t0, double t1) {
 }
 
 int64_t ColliderSet::bytes() const {
-  return heap_bytes(defs_, rest_, reference_, size_, now_, contact_, settled_);
+  return heap_bytes(defs_, rest_, reference_, size_, now_, contact_, settled_, hand_from_, hand_to_,
+                    held_);
 }
 
 }  // namespace drape

@@ -17,7 +17,7 @@ class ColliderSet {
   /// Builds every collider (a mesh's BVH once) and poses them at time t.
   ColliderSet(const std::vector<ColliderDef>& defs, double t);
 
-  /// Whether any collider moves (else pose() does nothing).
+  /// Whether any collider moves, by its motion or the hand (else pose() does nothing).
   bool moves() const { return moves_; }
   /// Poses the colliders for the substep from t0 to t1 (s): contact() then holds each at t1,
   /// preceded by its intermediate poses where it sweeps, each knowing its motion since t0.
@@ -25,6 +25,13 @@ class ColliderSet {
   /// Poses them at t, still (between frames: drawing, diagnostics, the next frame's start).
   /// Returns whether any is elsewhere than at the last settle (it did work on the cloth).
   bool settle(double t);
+
+  /// The user's hand moves collider k (the viewer's Shift-drag): from where the hand last left
+  /// it, it is carried `offset` (m) away from where its definition and motion put it, arriving
+  /// linearly over [t0, t1] (the next frame), so its surface moves with the hand's velocity.
+  void hand(size_t k, const Vec3& offset, double t0, double t1);
+  /// Where the hand has put collider k (zero until it does).
+  Vec3 hand_offset(size_t k) const { return hand_to_.empty() ? Vec3::Zero() : hand_to_[k]; }
 
   /// What contacts test against this substep (the sweep's poses included).
   const std::vector<Collider>& contact() const { return contact_; }
@@ -37,6 +44,10 @@ class ColliderSet {
 
  private:
   Collider posed(size_t k, const Pose& pose, const Pose& start, double elapsed) const;
+  /// Collider k's pose at time t: its motion's, carried by the hand.
+  Pose pose_of(size_t k, double t) const;
+  /// Whether collider k moves: it has a motion, or the hand has moved it.
+  bool moving(size_t k) const { return defs_[k].motion.moves() || (!held_.empty() && held_[k]); }
 
   std::vector<ColliderDef> defs_;  ///< their motions (meshes shared with the rest colliders)
   std::vector<Collider> rest_;     ///< as defined, unmoved
@@ -44,6 +55,10 @@ class ColliderSet {
   std::vector<double> size_;       ///< m, how far it may move in one pose of a sweep
   std::vector<Collider> now_, contact_;
   std::vector<Pose> settled_;  ///< each one's pose at the last settle
+  /// The hand's offsets (empty until it moves one): from, to, over [hand_t0_, hand_t1_].
+  std::vector<Vec3> hand_from_, hand_to_;
+  std::vector<uint8_t> held_;  ///< 1 for each one the hand has moved
+  double hand_t0_ = 0.0, hand_t1_ = 0.0;
   bool moves_ = false;
 };
 
