@@ -59,13 +59,15 @@ Collider ColliderSet::posed(size_t k, const Pose& p, const Pose& start, double e
   return c;
 }
 
+double ColliderSet::hand_along(double t) const {
+  const double span = hand_t1_ - hand_t0_;
+  return span > 0.0 ? std::clamp((t - hand_t0_) / span, 0.0, 1.0) : 1.0;
+}
+
 Pose ColliderSet::pose_of(size_t k, double t) const {
   Pose p = pose_at(defs_[k].motion, reference_[k], t);
-  if (!hand_to_.empty()) {
-    const double span = hand_t1_ - hand_t0_;
-    const double along = span > 0.0 ? std::clamp((t - hand_t0_) / span, 0.0, 1.0) : 1.0;
-    p.translation += hand_from_[k] + along * (hand_to_[k] - hand_from_[k]);
-  }
+  if (!hand_to_.empty())
+    p.translation += hand_from_[k] + hand_along(t) * (hand_to_[k] - hand_from_[k]);
   return p;
 }
 
@@ -79,9 +81,8 @@ void ColliderSet::hand(size_t k, const Vec3& offset, double t0, double t1) {
   }
   // Each one starts from where it is now: the last hand's move has been completed or is cut
   // short where it stands at t0.
+  const double along = hand_along(t0);
   for (size_t j = 0; j < rest_.size(); ++j) {
-    const double span = hand_t1_ - hand_t0_;
-    const double along = span > 0.0 ? std::clamp((t0 - hand_t0_) / span, 0.0, 1.0) : 1.0;
     hand_from_[j] += along * (hand_to_[j] - hand_from_[j]);
     hand_to_[j] = hand_from_[j];
   }

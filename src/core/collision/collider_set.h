@@ -44,6 +44,8 @@ class ColliderSet {
 
  private:
   Collider posed(size_t k, const Pose& pose, const Pose& start, double elapsed) const;
+  /// How far along its move from hand_from_ to hand_to_ the hand is at time t, in [0, 1].
+  double hand_along(double t) const;
   /// Collider k's pose at time t: its motion's, carried by the hand.
   Pose pose_of(size_t k, double t) const;
   /// Whether collider k moves: it has a motion, or the hand has moved it.
