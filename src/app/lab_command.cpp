@@ -90,16 +90,16 @@ double centimetres(double m) {
   return 100.0 * m;
 }
 
-int report_failure(const std::string& test, bool stopped, bool diverged, int64_t frame,
-                   const std::string& message) {
-  if (stopped) {
+template <class Result>
+int report_failure(const std::string& test, const Result& r) {
+  if (r.stopped) {
     const int signal = interrupt_signal();
     std::fprintf(stderr, "drape: lab %s interrupted; nothing measured\n", test.c_str());
     return interrupt_exit_code(signal ? signal : 2);
   }
-  if (diverged) {
+  if (r.diverged) {
     std::fprintf(stderr, "drape: lab %s: the simulation diverged at frame %lld: %s\n", test.c_str(),
-                 static_cast<long long>(frame), message.c_str());
+                 static_cast<long long>(r.diverged_frame), r.message.c_str());
     return kExitDiverged;
   }
   return kExitOk;
@@ -142,8 +142,7 @@ int cantilever(const LabOptions& o) {
     return kExitBadInput;
   }
   bar.finish();
-  if (r.stopped || r.diverged)
-    return report_failure("cantilever", r.stopped, r.diverged, r.diverged_frame, r.message);
+  if (r.stopped || r.diverged) return report_failure("cantilever", r);
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   int frames = 0;
@@ -249,8 +248,7 @@ int cusick(const LabOptions& o) {
     return kExitBadInput;
   }
   bar.finish();
-  if (r.stopped || r.diverged)
-    return report_failure("cusick", r.stopped, r.diverged, r.diverged_frame, r.message);
+  if (r.stopped || r.diverged) return report_failure("cusick", r);
   std::string picture_error;
 #ifdef DRAPE_HAVE_RENDER
   if (!picture.empty()) {

@@ -81,10 +81,7 @@ CantileverResult run_cantilever(const SceneDef& def, const CantileverProgress& p
     // At rest: no particle moves faster than 0.1 mm/s (2 µm a frame).
     const Settled s = settle(sim, 1e-4, 10, 600);
     if (s.failed) {
-      out.stopped = sim.stopped();
-      out.diverged = sim.diverged();
-      out.diverged_frame = sim.diverged_frame();
-      out.message = sim.divergence();
+      record_failure(sim, out);
       return out;
     }
     // Bending couples the last pinned segment with the first free one: the strip is held level

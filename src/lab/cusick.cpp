@@ -171,10 +171,7 @@ CusickResult run_cusick(const SceneDef& def, double seconds, const CusickProgres
   out.frames = s.frames;
   out.at_rest = s.at_rest;
   if (s.failed) {
-    out.stopped = sim.stopped();
-    out.diverged = sim.diverged();
-    out.diverged_frame = sim.diverged_frame();
-    out.message = sim.divergence();
+    record_failure(sim, out);
     return out;
   }
   out.measure = measure_cusick(sim.state().x, sim.model().triangles);

@@ -19,4 +19,14 @@ struct Settled {
 Settled settle(Simulation& sim, double speed, int least, int most,
                const std::function<void(int)>& each_frame = {});
 
+/// Records in a lab result (its stopped, diverged, diverged_frame and message) why `sim` ended a
+/// failed settle: interrupted, or blown up at a frame, with the simulation's message.
+template <class Result>
+void record_failure(const Simulation& sim, Result& out) {
+  out.stopped = sim.stopped();
+  out.diverged = sim.diverged();
+  out.diverged_frame = sim.diverged_frame();
+  out.message = sim.divergence();
+}
+
 }  // namespace drape::lab
