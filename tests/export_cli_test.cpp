@@ -62,11 +62,14 @@ struct Glb {
     bin_length = at<uint32_t>(bytes, 20 + json_length);
     bin_type = at<uint32_t>(bytes, 20 + json_length + 4);
   }
-  // The floats of a float accessor (VEC3, VEC2 or SCALAR).
+  // The floats of a float accessor (VEC4, VEC3, VEC2 or SCALAR).
   std::vector<float> floats(int accessor) const {
     const json& a = gltf["accessors"][accessor];
     const json& v = gltf["bufferViews"][a["bufferView"].get<int>()];
-    const int components = a["type"] == "VEC3" ? 3 : a["type"] == "VEC2" ? 2 : 1;
+    const int components = a["type"] == "VEC4"   ? 4
+                           : a["type"] == "VEC3" ? 3
+                           : a["type"] == "VEC2" ? 2
+                                                 : 1;
     const size_t start = bin + v["byteOffset"].get<size_t>() + a["byteOffset"].get<size_t>();
     std::vector<float> out(a["count"].get<size_t>() * components);
     std::memcpy(out.data(), bytes.data() + start, out.size() * sizeof(float));
@@ -161,6 +164,40 @@ TEST_F(ExportCli, GlbHoldsTheMeshItsFramesAsMorphTargetsAndTheColliders) {
   EXPECT_LT(worst, 4e-7);
   EXPECT_EQ(g["meshes"][0]["primitives"][0]["indices"].is_number(), true);
   EXPECT_EQ(g["accessors"][cloth["indices"].get<int>()]["count"], 2 * 31 * 31 * 3);
+  // The colliders stand still: the weights are the only channel.
+  EXPECT_EQ(g["animations"][0]["channels"].size(), 1u);
+}
+
+// A moving collider is animated: the curtain's ball, still until 0.5 s, then 2 m along +z by
+// 0.7 s, its node translated so from where its mesh stands (frame 0), never turned.
+TEST_F(ExportCli, GlbAnimatesAMovingColliderAlongItsPath) {
+  ASSERT_EQ(run_drape("run " + shipped_scene("curtain") +
+                      " --seconds 0.8 --every 6 --quiet --export " + path("run.glb"))
+                .code,
+            0);
+  const Glb glb(path("run.glb"));
+  const json& g = glb.gltf;
+  ASSERT_EQ(g["nodes"][1]["name"], "sphere 0");
+  const json& animation = g["animations"][0];
+  ASSERT_EQ(animation["channels"].size(), 3u);  // the cloth's weights, the ball's two
+  std::vector<float> times, translation, rotation;
+  for (const json& channel : animation["channels"]) {
+    if (channel["target"]["node"] != 1) continue;
+    const json& sampler = animation["samplers"][channel["sampler"].get<int>()];
+    times = glb.floats(sampler["input"]);
+    (channel["target"]["path"] == "translation" ? translation : rotation) =
+        glb.floats(sampler["output"]);
+  }
+  ASSERT_EQ(translation.size(), 3 * times.size());
+  ASSERT_EQ(rotation.size(), 4 * times.size());
+  for (size_t k = 0; k < times.size(); ++k) {
+    const double z = 2.0 * std::clamp((times[k] - 0.5) / 0.2, 0.0, 1.0);
+    EXPECT_NEAR(translation[3 * k], 0.0, 1e-6) << k;
+    EXPECT_NEAR(translation[3 * k + 1], 0.0, 1e-6) << k;
+    EXPECT_NEAR(translation[3 * k + 2], z, 1e-5) << "at " << times[k] << " s";
+    EXPECT_EQ(rotation[4 * k + 3], 1.0f) << k;  // w: no turn
+  }
+  EXPECT_NEAR(translation.back(), 2.0, 1e-6);
 }
 
 TEST_F(ExportCli, InterruptedRunsKeepValidCachesOfTheFramesDone) {

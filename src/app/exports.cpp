@@ -160,7 +160,7 @@ void Exporter::write(const Simulation& sim) {
         glb_ = std::make_unique<io::GlbWriter>(target_.file, sim.def().name, generator_, model,
                                                state, sim.time(), sim.colliders());
       else
-        glb_->add_frame(state, sim.frame(), sim.time());
+        glb_->add_frame(state, sim.frame(), sim.time(), sim.colliders());
       break;
   }
   ++written_;

@@ -8,11 +8,12 @@
 #include <cstring>
 #include <limits>
 #include <stdexcept>
+#include <tuple>
 
 #include <nlohmann/json.hpp>
 
-#include "io/output_file.h"
 #include "io/collider_mesh.h"
+#include "io/output_file.h"
 
 namespace drape::io {
 
@@ -131,6 +132,7 @@ GlbWriter::GlbWriter(std::string file, std::string name, std::string generator,
     for (int32_t v : t) indices_.push_back(static_cast<uint32_t>(v));
   delta_.resize(6 * n);
   times_.push_back(static_cast<float>(time));
+  for (size_t c = 0; c < colliders_.size(); ++c) tracks_.push_back({0, 0, 0, 0, 0, 0, 1});
 
   // Planes are drawn as squares ten times the cloth's size around its start.
   Vec3 lo = x0_.empty() ? Vec3::Zero() : x0_[0], hi = lo;
@@ -149,7 +151,8 @@ GlbWriter::~GlbWriter() {
   if (scratch_) std::fclose(scratch_);
 }
 
-void GlbWriter::add_frame(const ClothState& state, int64_t frame, double time) {
+void GlbWriter::add_frame(const ClothState& state, int64_t frame, double time,
+                          const std::vector<Collider>& colliders) {
   const size_t n = x0_.size();
   if (state.x.size() != n)
     throw std::logic_error(file_ + ": a frame of " + std::to_string(state.x.size()) +
@@ -165,6 +168,23 @@ void GlbWriter::add_frame(const ClothState& state, int64_t frame, double time) {
   target_bounds_.push_back(bounds(delta_.data(), n));
   write_all(scratch_, delta_.data(), delta_.size() * sizeof(float), file_);
   times_.push_back(static_cast<float>(time));
+  // Each collider's pose now relative to frame 0's: R·R0ᵀ, and t − R·R0ᵀ·t0.
+  const size_t last = tracks_.size() - colliders_.size();
+  for (size_t c = 0; c < colliders_.size(); ++c) {
+    if (colliders.size() != colliders_.size()) {
+      tracks_.push_back(tracks_[last + c]);
+      continue;
+    }
+    const Pose& p0 = colliders_[c].pose;
+    const Pose& p = colliders[c].pose;
+    const Mat3 turn = p.rotation * p0.rotation.transpose();
+    const Vec3 move = p.translation - turn * p0.translation;
+    const Eigen::Quaterniond q(turn);
+    tracks_.push_back({static_cast<float>(move.x()), static_cast<float>(move.y()),
+                       static_cast<float>(move.z()), static_cast<float>(q.x()),
+                       static_cast<float>(q.y()), static_cast<float>(q.z()),
+                       static_cast<float>(q.w())});
+  }
   char name[32];
   std::snprintf(name, sizeof name, "frame_%05lld", static_cast<long long>(frame));
   target_names_.push_back(name);
@@ -270,14 +290,37 @@ void GlbWriter::finish() {
     const int input = layout.accessor(layout.view(at, keys * 4), 0, kFloat, keys, "SCALAR");
     layout.accessors[input]["min"] = {times_.front()};
     layout.accessors[input]["max"] = {times_.back()};
-    weights_origin = targets_bytes + held.bytes.size();
     weights_bytes = keys * targets * sizeof(float);
+    // The weights' sampler gets its output below, once the weights' place is known.
+    json channels = {{{"sampler", 0}, {"target", {{"node", 0}, {"path", "weights"}}}}};
+    json samplers = {{{"input", input}, {"interpolation", "LINEAR"}}};
+    // The colliders that move: their translations and rotations (slerped) at the same times.
+    const size_t count = colliders_.size();
+    for (size_t c = 0; c < count; ++c) {
+      bool moves = false;
+      for (size_t k = 1; k < keys; ++k) moves = moves || tracks_[k * count + c] != tracks_[c];
+      if (!moves) continue;
+      std::vector<float> translation, rotation;
+      for (size_t k = 0; k < keys; ++k) {
+        const std::array<float, 7>& t = tracks_[k * count + c];
+        translation.insert(translation.end(), t.begin(), t.begin() + 3);
+        rotation.insert(rotation.end(), t.begin() + 3, t.end());
+      }
+      for (const auto& [values, type, path] :
+           {std::tuple{&translation, "VEC3", "translation"}, {&rotation, "VEC4", "rotation"}}) {
+        const size_t track = held.append(values->data(), values->size() * sizeof(float));
+        const int out = layout.accessor(layout.view(track, values->size() * sizeof(float)), 0,
+                                        kFloat, keys, type);
+        channels.push_back(
+            {{"sampler", samplers.size()}, {"target", {{"node", c + 1}, {"path", path}}}});
+        samplers.push_back({{"input", input}, {"output", out}, {"interpolation", "LINEAR"}});
+      }
+    }
+    weights_origin = targets_bytes + held.bytes.size();
     const int output = layout.accessor(layout.view(weights_origin, weights_bytes), 0, kFloat,
                                        keys * targets, "SCALAR");
-    animations.push_back(
-        {{"name", name_},
-         {"channels", {{{"sampler", 0}, {"target", {{"node", 0}, {"path", "weights"}}}}}},
-         {"samplers", {{{"input", input}, {"output", output}, {"interpolation", "LINEAR"}}}}});
+    samplers[0]["output"] = output;
+    animations.push_back({{"name", name_}, {"channels", channels}, {"samplers", samplers}});
   }
 
   const size_t bin_bytes = padded(weights_origin + weights_bytes);
@@ -310,10 +353,9 @@ void GlbWriter::finish() {
   const double total =
       12.0 + 8.0 + static_cast<double>(text.size()) + 8.0 + static_cast<double>(bin_bytes);
   if (total > kMaxBytes)
-    throw OutputError(file_ + ": " + std::to_string(keys) + " frames of " +
-                             std::to_string(n) +
-                             " vertices pass the 4 GiB a .glb can hold; export fewer frames "
-                             "with --every");
+    throw OutputError(file_ + ": " + std::to_string(keys) + " frames of " + std::to_string(n) +
+                      " vertices pass the 4 GiB a .glb can hold; export fewer frames "
+                      "with --every");
 
   OutputFile out(file_);
   FILE* f = out.get();

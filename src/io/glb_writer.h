@@ -1,6 +1,8 @@
 // glTF 2.0 binary (.glb): the cloth's mesh (positions, normals, UVs, triangles), its motion as
 // morph targets played by a weights animation, and the colliders as meshes, in one file that
 // Blender and three.js import and play.
+// Colliders that move (a motion, the viewer's hand) get a node animation of their translation
+// and rotation at each frame's time, relative to where they stood at frame 0 (their mesh).
 //
 // Layout: frame 0 is the mesh; every later frame kept is a morph target holding its position and
 // normal displacements from frame 0; one animation samples the weights at each frame's time with
@@ -35,8 +37,10 @@ class GlbWriter {
   GlbWriter& operator=(const GlbWriter&) = delete;
 
   /// Adds frame number `frame` at `time` s, later than the previous frame's. Its morph target
-  /// is named after it ("frame_00005", as the OBJ export names its file).
-  void add_frame(const ClothState& state, int64_t frame, double time);
+  /// is named after it ("frame_00005", as the OBJ export names its file). `colliders`: where
+  /// the colliders given at the start are now (empty: where they were at the last frame).
+  void add_frame(const ClothState& state, int64_t frame, double time,
+                 const std::vector<Collider>& colliders = {});
 
   /// Writes the file (as io::OutputFile writes: whole or not at all). Throws OutputError naming the file
   /// if it cannot be written, or if it would pass the format's 4 GiB.
@@ -61,6 +65,9 @@ class GlbWriter {
   std::vector<std::string> target_names_;
   std::vector<float> delta_;  // one frame's displacements, reused
   std::vector<Collider> colliders_;
+  // Per frame and collider, its node's transform from frame 0: translation x, y, z, then the
+  // rotation as a unit quaternion x, y, z, w (glTF's order).
+  std::vector<std::array<float, 7>> tracks_;
   Vec3 focus_;               // where the cloth starts: planes are drawn around it
   double extent_;            // m, the side of a plane's square
   FILE* scratch_ = nullptr;  // the morph targets, frame after frame
