@@ -21,6 +21,7 @@
 #include "app/sim_thread.h"
 #include "app/terminal.h"
 #include "drape/error.h"
+#include "drape/material.h"
 #include "drape/simulation.h"
 #include "io/output_file.h"
 #include "io/scene_io.h"
@@ -533,13 +534,35 @@ void Viewer::draw_panel() {
       }
       new_cloth |= ImGui::IsItemDeactivatedAfterEdit();
     }
-    if (const std::optional<MaterialDef>& m = edit_.cloth.material) {
+    if (edit_.cloth.material) {
       // A material sets the masses and the stiffness; the seed's mass and springs do not apply.
-      ImGui::TextWrapped(
-          "material %s: %.3g kg/m2, stretch %.4g/%.4g N/m, shear %.4g N/m, bending %.3g/%.3g "
-          "uN m (warp/weft), compression %.2g",
-          m->name.empty() ? "(given)" : m->name.c_str(), m->density, m->stretch.x(), m->stretch.y(),
-          m->shear, 1e6 * m->bending.x(), 1e6 * m->bending.y(), m->compression);
+      // Its numbers are cooked into the cloth: a change makes a new cloth when the slider is let
+      // go (a preset at once), and numbers changed by hand are no longer the preset's.
+      MaterialDef& m = *edit_.cloth.material;
+      if (ImGui::BeginCombo("material", m.name.empty() ? "(own numbers)" : m.name.c_str())) {
+        for (const std::string& preset : material_preset_names())
+          if (ImGui::Selectable(preset.c_str(), preset == m.name)) {
+            m = *material_preset(preset);
+            new_cloth = true;
+          }
+        ImGui::EndCombo();
+      }
+      auto edited = [&](bool changed) {
+        if (changed) m.name.clear();
+        new_cloth |= ImGui::IsItemDeactivatedAfterEdit();
+      };
+      edited(slider("density (kg/m2)", m.density, 0.01, 2.0, "%.3g", true));
+      edited(slider("stretch warp (N/m)", m.stretch.x(), 1.0, 1e5, "%.4g", true));
+      edited(slider("stretch weft (N/m)", m.stretch.y(), 1.0, 1e5, "%.4g", true));
+      edited(slider("shear (N/m)", m.shear, 0.1, 1e4, "%.4g", true));
+      Vec2 bending = 1e6 * m.bending;  // shown in µN·m
+      const bool bent = slider("bending warp (uN m)", bending.x(), 0.1, 1e4, "%.4g", true);
+      edited(bent);
+      const bool bent_weft = slider("bending weft (uN m)", bending.y(), 0.1, 1e4, "%.4g", true);
+      edited(bent_weft);
+      if (bent || bent_weft) m.bending = 1e-6 * bending;
+      edited(slider("compression", m.compression, 0.0, 1.0, "%.2f"));
+      edited(slider("damping (s)", m.damping, 0.0, 0.1, "%.4f"));
     } else {
       live |= slider("mass (kg)", edit_.cloth.mass, 0.01, 20.0, "%.3g", true);
     }
