@@ -561,9 +561,9 @@ TEST_P(EveryMethod, AFastBallPushesTheCurtainAsideAndNeverTunnelsThroughIt) {
     GTEST_SKIP() << "line passes on a pinned cloth need cloth.long_range, whose taut curtain "
                     "cannot give way (README, Known traps)";
   if (GetParam().method == Method::implicit)
-    GTEST_SKIP() << "NOT reached with implicit: its cloth parts round the ball within a frame "
-                    "and the ball's path crosses 1 to 3 of its triangles from frame 38 on "
-                    "(README, Motion)";
+    GTEST_SKIP() << "NOT reached with implicit: in its one step a frame the ball's sweep poses "
+                    "push the cloth round its sides, and the ball's path crosses the cloth from "
+                    "frame 37 on (README, Motion)";
   SceneDef def = testing_support::with(testing_support::shipped("curtain"), GetParam());
   def.duration = 1.0;
   {

@@ -112,7 +112,7 @@ class Implicit final : public Solver {
         const Spring& sp = m.springs[k];
         const Vec3 &xi = s.x[sp.i], &xj = s.x[sp.j];
         const double ks = forces::acting_stiffness(xi, xj, sp.stiffness, sp.rest,
-                                                    forces::compression_of(m, sp.kind));
+                                                   forces::compression_of(m, sp.kind));
         const Mat3 K = forces::spring_stiffness(xi, xj, ks, sp.rest, true);
         block_[k] = forces::implicit_spring_block(xi, xj, ks, sp.rest, sp.damping, h);
         const Vec3 fi = forces::spring_elastic(xi, xj, ks, sp.rest) +
@@ -160,10 +160,9 @@ class Implicit final : public Solver {
       Vec3 nrm[2];
       double target[2] = {0.0, 0.0};
       int count = 0;
+      // `t_n`: the least normal velocity that keeps the particle outside by the substep's end;
       // `surface`: the velocity of what the particle touches (a moving collider's, else 0).
-      auto consider = [&](const Vec3& n_out, double gap, double mu, const Vec3& surface) {
-        // The normal velocity that just arrives at the surface as it moves.
-        const double t_n = surface.dot(n_out) - std::max(gap, 0.0) / h;
+      auto consider = [&](const Vec3& n_out, double t_n, double mu, const Vec3& surface) {
         if (count == 2 || predicted.dot(n_out) >= t_n) return;
         if (count == 0 || contact_dvn_[i] == 0.0) {  // friction: the first collider's
           contact_n_[i] = n_out;
@@ -180,13 +179,20 @@ class Implicit final : public Solver {
         if (!col.moving && clear_of(col, s.x[i], h * predicted.norm())) continue;
         Vec3 n_out;
         const double gap = signed_distance(col, s.x[i], n_out) - col.thickness;
-        consider(n_out, gap, col.friction, col.surface_velocity(s.x[i]));
+        // A still surface: arrive at it, or stop where it is reached. A moving one is posed where
+        // it is at the substep's end, so the gap already holds its motion: the particle must
+        // cover it (leave it, when the surface has overtaken the particle) within the substep.
+        // (Adding the surface's own normal velocity to that counted its motion twice, and shoved
+        // cloth ahead of a fast ball aside before the ball reached it.)
+        const double t_n = col.moving ? -gap / h : -std::max(gap, 0.0) / h;
+        consider(n_out, t_n, col.friction, col.surface_velocity(s.x[i]));
       }
       const LongRange& tethers = w.attachments;
       for (int k = 0; k < tethers.tethers() && tethers.pin(i, k) >= 0; ++k) {
         const Vec3 d = s.x[tethers.pin(i, k)] - s.x[i];
         const double len = d.norm();
-        if (len > 0.0) consider(d / len, tethers.limit(i, k) - len, 0.0, Vec3::Zero());
+        if (len > 0.0)
+          consider(d / len, -std::max(tethers.limit(i, k) - len, 0.0) / h, 0.0, Vec3::Zero());
       }
       if (count == 0) continue;
       // Filter S = I − e₁e₁ᵀ − e₂e₂ᵀ over an orthonormal basis of the constrained normals, and
@@ -270,13 +276,13 @@ class Implicit final : public Solver {
   int last_iterations_ = 0;
   double ext_norm2_ = 0.0;
   std::vector<Vec3> rhs_, force_, dv_, r_, s_, c_, q_;
-  std::vector<Vec3> contact_n_;      // outward normal of the particle's contact
+  std::vector<Vec3> contact_n_;        // outward normal of the particle's contact
   std::vector<Vec3> contact_surface_;  // the velocity of the surface it touches (m/s)
-  std::vector<double> contact_dvn_;  // its normal velocity change (m/s), 0 = no contact
-  std::vector<double> contact_mu_;   // its friction coefficient
-  std::vector<Mat3> block_;          // per spring: h²K + h·C
-  std::vector<Mat3> diag_;           // per particle: the system matrix's diagonal block
-  std::vector<Mat3> precond_;        // its inverse, zero on constrained particles
+  std::vector<double> contact_dvn_;    // its normal velocity change (m/s), 0 = no contact
+  std::vector<double> contact_mu_;     // its friction coefficient
+  std::vector<Mat3> block_;            // per spring: h²K + h·C
+  std::vector<Mat3> diag_;             // per particle: the system matrix's diagonal block
+  std::vector<Mat3> precond_;          // its inverse, zero on constrained particles
 };
 
 }  // namespace
