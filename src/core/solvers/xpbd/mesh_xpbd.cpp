@@ -216,7 +216,8 @@ class MeshXpbd final : public Solver {
     const Vec3 g = w.forces.gravity;
     const double drag = w.forces.air_drag;
     const bool read = !current_;
-    if (w.colliders_move() && triangles_.empty()) triangles_ = triangle_slots(m, [](int32_t i) { return i; });
+    if (w.colliders_move() && triangles_.empty())
+      triangles_ = triangle_slots(m, [](int32_t i) { return i; });
     const bool triangles = w.colliders_move();
     particles_.read_pins(s, w.attachments);
     const int32_t blocks = slots_ / kBlock;
@@ -293,8 +294,8 @@ class MeshXpbd final : public Solver {
 
   int substeps() const override { return substeps_; }
   int64_t workspace_bytes() const override {
-    int64_t bytes = particles_.bytes() + heap_bytes(scratch_, triangles_) + all_.bytes() + stiffest_.bytes() +
-                    left_over_.bytes();
+    int64_t bytes = particles_.bytes() + heap_bytes(scratch_, triangles_) + all_.bytes() +
+                    stiffest_.bytes() + left_over_.bytes();
     for (const ChainLayer<Real>& layer : layers_) bytes += layer.bytes();
     return bytes;
   }
