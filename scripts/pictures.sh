@@ -31,6 +31,11 @@ for scene in table skirt flag; do
   cp "$tmp/$scene/frame_00240.png" "docs/$scene.png"
 done
 
+# A coarse cloth on a cube balanced on its corner, held out by the feature contacts.
+"$drape" render scenes/corner.json --frames 90 --every 90 --size 500x400 --pitch 25 --zoom 2.5 \
+  --quiet --out "$tmp/corner"
+cp "$tmp/corner/frame_00090.png" docs/corner.png
+
 # Self-collision: the pile after 4 s without and with it.
 for sc in false true; do
   "$drape" render scenes/pile.json --set cloth.self_collision=$sc --frames 240 --every 240 \

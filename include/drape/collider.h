@@ -12,6 +12,7 @@
 namespace drape {
 
 class TriangleShape;
+struct SharpFeatures;
 
 /// A rigid pose: a point p of the collider's definition is at rotation·p + translation.
 struct Pose {
@@ -32,6 +33,8 @@ struct Collider {
   Vec3 half_extents = Vec3::Zero();           ///< m, box
   Mat3 rotation = Mat3::Identity();           ///< box: its axes (columns) in world coordinates
   std::shared_ptr<const TriangleShape> mesh;  ///< mesh: triangles and BVH, definition frame
+  /// box and closed mesh: convex edges and corners, definition frame (null: none)
+  std::shared_ptr<const SharpFeatures> features;
   double friction = 0.0;                      ///< Coulomb coefficient (dimensionless)
   double thickness = 0.0;                     ///< m, gap kept between the cloth and the surface
   Pose pose;  ///< where the definition's frame is now (identity: unmoved)

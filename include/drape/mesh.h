@@ -14,6 +14,9 @@ namespace drape {
 /// Three vertex indices, counter-clockwise seen from the cloth's front.
 using Triangle = std::array<int32_t, 3>;
 
+/// The edges of `triangles`, each once as (lower index, higher index), sorted.
+std::vector<std::array<int32_t, 2>> triangle_edges(const std::vector<Triangle>& triangles);
+
 /// A triangle mesh. Every index is checked when a cloth is built from it (check_mesh).
 struct ClothMesh {
   std::vector<Vec3> positions;      ///< m, the rest shape

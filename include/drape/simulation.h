@@ -22,6 +22,7 @@ class LongRange;
 class SelfCollision;
 struct World;
 class ColliderSet;
+class FeatureContacts;
 
 /// Figures that describe the state; cheap enough to take once per frame.
 struct Diagnostics {
@@ -152,6 +153,11 @@ class Simulation {
   /// with the velocity of getting there over the last dt; returns whether any moved.
   bool move_pins(double t, double dt);
   void step_with_self_collision(World& world);
+  /// Sets up the contacts with colliders' sharp features (none when no collider has any).
+  void prepare_features();
+  /// Steps the solver over dt from the state and colliders as they are, with the feature
+  /// contacts gathered for it.
+  void solve(World& world, double dt);
   void rebase_energy();
   double mechanical_energy() const;
 
@@ -162,6 +168,8 @@ class Simulation {
   std::unique_ptr<LongRange> attachments_;  ///< rebuilt when the pins change
   std::unique_ptr<Solver> solver_;
   std::unique_ptr<SelfCollision> self_collision_;  ///< null unless cloth.self_collision is on
+  std::unique_ptr<FeatureContacts> features_;      ///< null unless a collider has sharp features
+  std::vector<double> travel_;                     ///< m, each collider's travel this frame
   std::vector<Vec3> frame_start_;                  ///< positions at the start of a collision step
   double frame_motion_ = 0.0;  ///< m, the cloth's relative motion over the last frame
   /// Each pin entry's particles and where they started (pins with a motion follow it).

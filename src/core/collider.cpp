@@ -4,6 +4,7 @@
 #include <limits>
 
 #include "collision/motion.h"
+#include "collision/sharp_features.h"
 #include "collision/triangle_contact.h"
 #include "collision/triangle_shape.h"
 #include "parallel.h"
@@ -42,6 +43,8 @@ Collider make_collider(const ColliderDef& def) {
       c.rotation = rotation_xyz(def.rotate);
       c.bound_center = c.center;
       c.bound_radius = def.half_extents.norm();
+      c.features =
+          std::make_shared<const SharpFeatures>(box_features(c.center, c.half_extents, c.rotation));
       break;
     case ColliderType::mesh: {
       std::vector<Vec3> vertices;
@@ -57,6 +60,12 @@ Collider make_collider(const ColliderDef& def) {
       c.bound_center = 0.5 * (shape->lo() + shape->hi());
       for (const Vec3& v : shape->vertices())
         c.bound_radius = std::max(c.bound_radius, (v - c.bound_center).norm());
+      // An open mesh is two-sided and has no outward edges.
+      if (shape->closed()) {
+        auto features = std::make_shared<SharpFeatures>(
+            sharp_features(*shape, kSharpAngle));
+        if (!features->empty()) c.features = std::move(features);
+      }
       c.mesh = std::move(shape);
       break;
     }

@@ -85,6 +85,7 @@ Simulation::Simulation(const SceneDef& def)
   for (int32_t i = 0; i < model_.size(); ++i) state_.v[i] = Vec3::Zero();
   attachments_->prepare(model_, state_, def_.cloth.long_range);
   prepare_self_collision();
+  prepare_features();
   prepare_solver();
   rebase_energy();
 }
@@ -130,6 +131,30 @@ void Simulation::prepare_self_collision() {
   }
   if (!self_collision_) self_collision_ = std::make_unique<SelfCollision>();
   self_collision_->prepare(model_, self_collision_thickness(sc, model_), sc.friction);
+}
+
+void Simulation::prepare_features() {
+  const auto& now = colliders_->now();
+  if (std::none_of(now.begin(), now.end(),
+                   [](const Collider& c) { return c.features != nullptr; })) {
+    features_.reset();
+    return;
+  }
+  features_ = std::make_unique<FeatureContacts>();
+  features_->prepare(model_);
+  travel_.assign(now.size(), 0.0);
+}
+
+void Simulation::solve(World& world, double dt) {
+  world.features = nullptr;
+  if (features_) {
+    for (size_t k = 0; k < travel_.size(); ++k)
+      travel_[k] = colliders_->travel(k, world.time, world.time + dt);
+    features_->gather(colliders_->now(), travel_, state_, def_.forces.gravity, dt);
+    if (features_->any()) world.features = features_.get();
+  }
+  solver_->step_frame(world, dt);
+  if (features_) features_->check(state_.x);
 }
 
 const SelfCollisionReport* Simulation::self_collision() const {
@@ -198,7 +223,7 @@ void Simulation::step_with_self_collision(World& world) {
     if (move_pins(time() + dt * (part + 1) / parts, dt / parts)) solver_->state_changed();
     frame_start_ = state_.x;
     world.time = time() + dt * part / parts;
-    solver_->step_frame(world, dt / parts);
+    solve(world, dt / parts);
     // Even a part cut short is checked: the next frame starts from it.
     if (self_collision_->resolve(model_, frame_start_, colliders_->contact(), dt / parts, state_))
       solver_->state_changed();
@@ -216,7 +241,7 @@ bool Simulation::step() {
     // Moving pins are placed where they are at the frame's end, before it (the solvers hold
     // pins still through a frame).
     if (move_pins(time() + def_.solver.dt, def_.solver.dt)) solver_->state_changed();
-    solver_->step_frame(world, def_.solver.dt);
+    solve(world, def_.solver.dt);
   }
   stopped_ = world.cut_short;
   if (stopped_) return true;  // part of a frame: not counted, and its energy is not watched
@@ -317,7 +342,8 @@ MemoryUse Simulation::memory() const {
   m.model = heap_bytes(model_);
   m.workspace = solver_->workspace_bytes() + heap_bytes(scratch_, frame_start_) +
                 colliders_->bytes() + attachments_->bytes() +
-                (self_collision_ ? self_collision_->bytes() : 0);
+                (self_collision_ ? self_collision_->bytes() : 0) +
+                (features_ ? features_->bytes() : 0);
   return m;
 }
 
@@ -419,6 +445,7 @@ bool Simulation::reconfigure(const SceneDef& def) {
     attachments_->prepare(model_, state_, def_.cloth.long_range);
   try {
     prepare_self_collision();
+    prepare_features();
     prepare_solver();
   } catch (const InputError&) {
     reconfigure(old);

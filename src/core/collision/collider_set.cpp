@@ -105,6 +105,19 @@ bool ColliderSet::settle(double t) {
   return moved;
 }
 
+double ColliderSet::travel(size_t k, double t0, double t1) const {
+  if (!moving(k)) return 0.0;
+  const Pose start = pose_of(k, t0), end = pose_of(k, t1);
+  // Its bounding sphere's centre's move, plus the turn times the radius (a sphere turning
+  // about its own centre keeps its surface).
+  const Vec3 centre = rest_[k].bound_center;
+  double travel = (end.apply(centre) - start.apply(centre)).norm();
+  if (rest_[k].type != ColliderType::sphere && std::isfinite(rest_[k].bound_radius))
+    travel += Eigen::AngleAxisd(end.rotation * start.rotation.transpose()).angle() *
+              rest_[k].bound_radius;
+  return travel;
+}
+
 void ColliderSet::pose(double t0, double t1) {
   if (!moves_) return;
   contact_.clear();
@@ -114,14 +127,8 @@ void ColliderSet::pose(double t0, double t1) {
       continue;
     }
     const Pose start = pose_of(k, t0), end = pose_of(k, t1);
-    // How far a point of the surface moves at most: its bounding sphere's centre, plus the
-    // turn times the radius (a sphere turning about its own centre keeps its surface).
-    const Vec3 centre = rest_[k].bound_center;
-    double travel = (end.apply(centre) - start.apply(centre)).norm();
-    if (rest_[k].type != ColliderType::sphere && std::isfinite(rest_[k].bound_radius))
-      travel += Eigen::AngleAxisd(end.rotation * start.rotation.transpose()).angle() *
-                rest_[k].bound_radius;
-    const int pieces = std::clamp(static_cast<int>(std::ceil(travel / size_[k])), 1, kMaxSweep);
+    const int pieces =
+        std::clamp(static_cast<int>(std::ceil(travel(k, t0, t1) / size_[k])), 1, kMaxSweep);
     for (int j = 1; j <= pieces; ++j) {
       const double t = j == pieces ? t1 : t0 + (t1 - t0) * j / pieces;
       contact_.push_back(posed(k, j == pieces ? end : pose_of(k, t), start, t - t0));

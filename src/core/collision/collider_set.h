@@ -33,6 +33,9 @@ class ColliderSet {
   /// Where the hand has put collider k (zero until it does).
   Vec3 hand_offset(size_t k) const { return hand_to_.empty() ? Vec3::Zero() : hand_to_[k]; }
 
+  /// How far (m) a point of collider k's surface moves at most between times t0 and t1.
+  double travel(size_t k, double t0, double t1) const;
+
   /// What contacts test against this substep (the sweep's poses included).
   const std::vector<Collider>& contact() const { return contact_; }
   /// One per definition, where it is now.

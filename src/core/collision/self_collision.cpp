@@ -92,15 +92,7 @@ double self_collision_thickness(const SelfCollisionDef& def, const ClothModel& m
 void SelfCollision::prepare(const ClothModel& model, double thickness, double friction) {
   thickness_ = thickness;
   friction_ = friction;
-  edges_.clear();
-  edges_.reserve(model.triangles.size() * 3);
-  for (const Triangle& t : model.triangles)
-    for (int k = 0; k < 3; ++k) {
-      const int32_t i = t[k], j = t[(k + 1) % 3];
-      edges_.push_back({std::min(i, j), std::max(i, j)});
-    }
-  std::sort(edges_.begin(), edges_.end());
-  edges_.erase(std::unique(edges_.begin(), edges_.end()), edges_.end());
+  edges_ = triangle_edges(model.triangles);
   zone_.resize(model.size());
   std::iota(zone_.begin(), zone_.end(), 0);
   zone_state_.assign(model.size(), 0);

@@ -28,6 +28,10 @@ class TriangleShape {
   bool closed() const { return closed_; }
   const std::vector<Vec3>& vertices() const { return vertices_; }
   const std::vector<Triangle>& triangles() const { return triangles_; }
+  /// Per triangle, its unit normal (outward on a closed mesh).
+  const std::vector<Vec3>& face_normals() const { return face_normal_; }
+  /// Per vertex, the sum of its triangles' normals weighted by their angles there (not unit).
+  const std::vector<Vec3>& vertex_normals() const { return vertex_normal_; }
   /// The smallest axis-aligned box around the vertices.
   const Vec3& lo() const { return lo_; }
   const Vec3& hi() const { return hi_; }

@@ -20,6 +20,19 @@ Mat3 MeshTransform::rotation() const {
       .toRotationMatrix();
 }
 
+std::vector<std::array<int32_t, 2>> triangle_edges(const std::vector<Triangle>& triangles) {
+  std::vector<std::array<int32_t, 2>> edges;
+  edges.reserve(triangles.size() * 3);
+  for (const Triangle& t : triangles)
+    for (int k = 0; k < 3; ++k) {
+      const int32_t i = t[k], j = t[(k + 1) % 3];
+      edges.push_back({std::min(i, j), std::max(i, j)});
+    }
+  std::sort(edges.begin(), edges.end());
+  edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
+  return edges;
+}
+
 Vec3 MeshTransform::apply(const Vec3& p) const {
   return rotation() * p.cwiseProduct(scale) + translate;
 }

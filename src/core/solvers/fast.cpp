@@ -172,7 +172,7 @@ class Fast final : public Solver {
         }
       }
       w.attachments.apply(s, true);
-      resolve_contacts(w.colliders, w.model, s);
+      resolve_all_contacts(w);
     }
     update_normals(m, s);
   }

@@ -39,7 +39,15 @@ void drag_drift_constrain(World& w, double h) {
 #pragma omp parallel for schedule(static) if (worth_threads(n))
   for (int32_t i = 0; i < n; ++i) s.x[i] += h * s.v[i];
   w.attachments.apply(s, true);
-  resolve_contacts(w.colliders, w.model, s);
+  resolve_all_contacts(w);
+}
+
+void resolve_all_contacts(World& w) {
+  resolve_contacts(w.colliders, w.model, w.state);
+  if (w.features) {
+    StateCloth cloth{w.state};
+    w.features->apply(w.colliders, cloth);
+  }
 }
 
 }  // namespace drape

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "collision/collider_set.h"
+#include "collision/feature_contacts.h"
 #include "drape/cloth.h"
 #include "drape/collider.h"
 #include "drape/scene.h"
@@ -29,6 +30,9 @@ struct World {
   const std::atomic<bool>* stop = nullptr;  ///< when it turns true, the frame stops early
   bool cut_short = false;                   ///< set by the solver that stopped early
   ColliderSet* moving = nullptr;            ///< the colliders when some move; null when none does
+  /// The cloth's pairs with boxes' and meshes' sharp features this frame; null when none can
+  /// meet. Each method applies it after its particle contacts.
+  const FeatureContacts* features = nullptr;
 
   /// Whether pose_colliders does anything (some collider moves).
   bool colliders_move() const { return moving != nullptr; }
@@ -88,6 +92,9 @@ std::string count_text(double count);
 /// (semi-implicit, stable at any h), the drift x += h·v, long-range attachments, then contacts
 /// (last, so nothing stays inside a collider). Pinned and held particles (1/m = 0) stay put.
 void drag_drift_constrain(World& world, double h);
+/// Every contact of the state with the colliders: particles, triangles against moving round
+/// bodies, the pairs with sharp features (world.features).
+void resolve_all_contacts(World& world);
 std::unique_ptr<Solver> make_symplectic();
 std::unique_ptr<Solver> make_implicit();
 /// xpbd on the grid's own layout (its row and column fast paths), or on any mesh.

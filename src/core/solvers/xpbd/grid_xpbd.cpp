@@ -163,7 +163,7 @@ class GridXpbd final : public Solver {
           }
           if (attached_) apply_attachments();
         }
-        finish_substep(w.colliders, h, triangles);
+        finish_substep(w.colliders, h, triangles, w.features);
       }
 #pragma omp for schedule(static)
       for (int32_t i = 0; i < n; ++i) particles_.write(s, i, grid_.slot(i));
@@ -807,12 +807,18 @@ class GridXpbd final : public Solver {
   }
 
   // Contacts, then v = move/h; with `triangles`, the triangles against moving bodies between
-  // the two.
-  void finish_substep(const std::vector<Collider>& colliders, Real h, bool triangles) {
-    if (triangles) {
+  // the two, and so the pairs with sharp features where there are `features`.
+  void finish_substep(const std::vector<Collider>& colliders, Real h, bool triangles,
+                      const FeatureContacts* features) {
+    if (triangles || features) {
       resolve_contacts(colliders);
 #pragma omp single
-      particles_.triangle_contacts(colliders, triangles_);
+      {
+        if (triangles) particles_.triangle_contacts(colliders, triangles_);
+        if (features)
+          particles_.feature_contacts(*features, colliders,
+                                      [&](int32_t i) { return grid_.slot(i); });
+      }
 #pragma omp for schedule(static)
       for (int r = 0; r < rows_; ++r)
         particles_.velocities(h, r * grid_.stride, (r + 1) * grid_.stride);

@@ -272,16 +272,23 @@ class MeshXpbd final : public Solver {
               particles_.attachments(b * kBlock, (b + 1) * kBlock);
           }
         }
-        if (triangles) {  // the triangles against moving bodies, after the contacts
+        // The triangles against moving bodies and the pairs with sharp features, after the
+        // contacts.
+        const bool after = triangles || w.features;
+        if (after) {
 #pragma omp for schedule(static)
           for (int32_t b = 0; b < blocks; ++b)
             particles_.contacts(w.colliders, b * kBlock, (b + 1) * kBlock);
 #pragma omp single
-          particles_.triangle_contacts(w.colliders, triangles_);
+          {
+            if (triangles) particles_.triangle_contacts(w.colliders, triangles_);
+            if (w.features)
+              particles_.feature_contacts(*w.features, w.colliders, [](int32_t i) { return i; });
+          }
         }
 #pragma omp for schedule(static)
         for (int32_t b = 0; b < blocks; ++b) {
-          if (!triangles) particles_.contacts(w.colliders, b * kBlock, (b + 1) * kBlock);
+          if (!after) particles_.contacts(w.colliders, b * kBlock, (b + 1) * kBlock);
           particles_.velocities(h, b * kBlock, (b + 1) * kBlock);
         }
       }

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "chains.h"
+#include "collision/feature_contacts.h"
 #include "collision/triangle_contact.h"
 #include "drape/collider.h"
 #include "forces.h"
@@ -279,6 +280,44 @@ class Particles {
         }
       }
     }
+  }
+
+  // The cloth's edges and triangles against boxes' and meshes' sharp features
+  // (collision/feature_contacts.h), `slot` mapping a particle to its slot; serial.
+  template <typename Slot>
+  void feature_contacts(const FeatureContacts& features, const std::vector<Collider>& colliders,
+                        Slot slot) {
+    struct Cloth {
+      Particles& p;
+      Slot& slot;
+      Vec3 position(int32_t i) const { return p.position(slot(i)); }
+      // The push, then friction on positions as the particle contacts have it: the point's
+      // slide over the surface this substep is cancelled within friction·depth, else
+      // shortened by it.
+      void push(const PointPush& push, const Collider& col) {
+        Vec3 moves[3];
+        double sum = 0.0;
+        auto inv_mass = [&](int32_t i) { return double(p.inv_mass[slot(i)]); };
+        if (!push_moves(push, inv_mass, moves, sum)) return;
+        Vec3 point = Vec3::Zero(), slide = Vec3::Zero();
+        for (int k = 0; k < push.count; ++k) {
+          const int32_t c = slot(push.index[k]);
+          add(c, moves[k]);
+          point += push.w[k] * p.position(c);
+          slide += push.w[k] * Vec3(p.move.x[c], p.move.y[c], p.move.z[c]);
+        }
+        const Vec3 held =
+            friction_change(slide - col.surface_move(point), push.n, col.friction, push.depth);
+        for (int k = 0; k < push.count; ++k)
+          add(slot(push.index[k]), (-push.w[k] * inv_mass(push.index[k]) / sum) * held);
+      }
+      void add(int32_t c, const Vec3& d) {
+        p.move.x[c] += static_cast<Real>(d.x());
+        p.move.y[c] += static_cast<Real>(d.y());
+        p.move.z[c] += static_cast<Real>(d.z());
+      }
+    } cloth{*this, slot};
+    features.apply(colliders, cloth);
   }
 
   // The velocities over slots [begin, end): v = (move − the rounding it started with)/h, the

@@ -1,0 +1,249 @@
+#include "collision/feature_contacts.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace drape {
+
+namespace {
+
+// A cloth triangle nearly edge-on to a corner's direction has no clear side to be pushed to;
+// the edge pairs hold it.
+constexpr double kEdgeOn = 0.2;
+// The most grid cells one query visits; a wider one tests every feature.
+constexpr int64_t kMaxCells = 64;
+
+uint64_t cell_key(int i, int j, int k) {
+  auto part = [](int v) { return uint64_t(uint32_t(v + (1 << 20)) & 0x1fffff); };
+  return (part(i) << 42) | (part(j) << 21) | part(k);
+}
+
+}  // namespace
+
+bool edge_edge_push(const SharpFeatures::Edge& e, const Vec3& p, const Vec3& q, double gap,
+                    double& s, Vec3& n, double& depth) {
+  // Each end beyond a face's plane or not.
+  const bool p1 = e.n1.dot(p - e.a) > 0.0, q1 = e.n1.dot(q - e.a) > 0.0;
+  const bool p2 = e.n2.dot(p - e.a) > 0.0, q2 = e.n2.dot(q - e.a) > 0.0;
+  // Wholly beyond one face: it cannot reach into the body past this edge. An end inside both:
+  // the particle contacts' to mend, not a crossing of the edge.
+  if ((p1 && q1) || (p2 && q2) || !(p1 || p2) || !(q1 || q2)) return false;
+  const SegmentPoints sp = closest_between_segments(p, q, e.a, e.b);
+  s = sp.s;
+  const Vec3 point = p + s * (q - p), ab = e.b - e.a;
+  const double along = (point - e.a).dot(ab) / ab.squaredNorm();
+  if (!(along >= 0.0 && along <= 1.0)) return false;  // past the edge's ends: the corners'
+  const Vec3 d = point - (e.a + along * ab);
+  const Vec3 out = (e.n1 + e.n2).normalized();
+  const double clearance = d.dot(out);
+  if (clearance > 0.0) {
+    const double distance = d.norm();
+    if (distance >= gap) return false;
+    n = d / distance;
+    depth = gap - distance;
+  } else {  // passing inside the edge
+    n = out;
+    depth = gap - clearance;
+  }
+  return depth > 0.0;
+}
+
+int corner_side(const SharpFeatures::Corner& c, const Vec3& x0, const Vec3& x1, const Vec3& x2,
+                double gap) {
+  const Vec3 normal = (x1 - x0).cross(x2 - x0);
+  const double length = normal.norm();
+  if (!(length > 0.0)) return 0;
+  // Only a triangle over the corner has a side worth keeping: beside it, the corner may lie
+  // beyond the triangle's plane without passing through it.
+  if (!over_face(c.p, x0, x1, x2, 0.0).interior) return 0;
+  const double height = normal.dot(x0 - c.p) / length;
+  return height > 0.5 * gap ? 1 : height < -0.5 * gap ? -1 : 0;
+}
+
+bool corner_triangle_push(const SharpFeatures::Corner& c, const Vec3* faces, const Vec3& x0,
+                          const Vec3& x1, const Vec3& x2, double gap, int side, double w[3],
+                          Vec3& n, double& depth) {
+  const Vec3* x[3] = {&x0, &x1, &x2};
+  // As for edges: not wholly beyond one face, and every corner of the triangle outside.
+  bool outside[3] = {false, false, false};
+  for (int f = 0; f < c.count; ++f) {
+    bool beyond = true;
+    for (int k = 0; k < 3; ++k) {
+      const bool out = faces[f].dot(*x[k] - c.p) > 0.0;
+      beyond = beyond && out;
+      outside[k] = outside[k] || out;
+    }
+    if (beyond) return false;
+  }
+  if (!(outside[0] && outside[1] && outside[2])) return false;
+  const TrianglePoint tp = over_face(c.p, x0, x1, x2, 0.0);
+  if (!tp.interior) return false;
+  const Vec3 normal = (x1 - x0).cross(x2 - x0);
+  const double area2 = normal.norm();
+  if (!(area2 > 0.0)) return false;
+  n = normal / area2;
+  if (side == 0) {
+    const double facing = n.dot(c.n);
+    if (std::abs(facing) < kEdgeOn) return false;
+    side = facing < 0.0 ? -1 : 1;
+  }
+  n *= side;
+  w[0] = tp.wa, w[1] = tp.wb, w[2] = tp.wc;
+  const double height = n.dot(x0 - c.p);  // of the triangle's plane above the corner
+  depth = gap - height;
+  return depth > 0.0;
+}
+
+void FeatureContacts::prepare(const ClothModel& model) {
+  triangles_ = model.triangles;
+  edges_ = triangle_edges(model.triangles);
+  mean_edge_ = model.mean_edge;
+  start_.resize(model.size());
+  local_.resize(model.size());
+  boost_ = 1.0;
+  pairs_ = 0;
+}
+
+FeatureContacts::Group& FeatureContacts::group_for(
+    const std::shared_ptr<const SharpFeatures>& features) {
+  for (Group& g : groups_)
+    if (g.features == features) return g;
+  Group& g = groups_.emplace_back();
+  g.features = features;
+  const SharpFeatures& f = *features;
+  for (const SharpFeatures::Edge& e : f.edges) {
+    g.lo.push_back(e.a.cwiseMin(e.b));
+    g.hi.push_back(e.a.cwiseMax(e.b));
+  }
+  for (const SharpFeatures::Corner& c : f.corners) {
+    g.lo.push_back(c.p);
+    g.hi.push_back(c.p);
+  }
+  // Cells about as wide as the features' mean box, and never narrower than the cloth's edges.
+  double extent = 0.0;
+  for (size_t k = 0; k < g.lo.size(); ++k) extent += (g.hi[k] - g.lo[k]).maxCoeff();
+  g.cell = std::max(extent / std::max<size_t>(g.lo.size(), 1), mean_edge_);
+  if (!(g.cell > 0.0)) g.cell = 1.0;
+  for (size_t k = 0; k < g.lo.size(); ++k) {
+    const Eigen::Array3i lo = (g.lo[k] / g.cell).array().floor().cast<int>();
+    const Eigen::Array3i hi = (g.hi[k] / g.cell).array().floor().cast<int>();
+    for (int i = lo.x(); i <= hi.x(); ++i)
+      for (int j = lo.y(); j <= hi.y(); ++j)
+        for (int l = lo.z(); l <= hi.z(); ++l) g.grid[cell_key(i, j, l)].push_back(int32_t(k));
+  }
+  g.seen.assign(g.lo.size(), -1);
+  g.hidden.assign(g.lo.size(), 0);
+  return g;
+}
+
+const FeatureContacts::Group* FeatureContacts::find(const SharpFeatures* features) const {
+  for (const Group& g : groups_)
+    if (g.features.get() == features) return &g;
+  return nullptr;
+}
+
+void FeatureContacts::gather(const std::vector<Collider>& colliders,
+                             const std::vector<double>& travel, const ClothState& state,
+                             const Vec3& gravity, double dt) {
+  double fastest = 0.0;
+  for (const Vec3& v : state.v) fastest = std::max(fastest, v.squaredNorm());
+  allowed_ = boost_ * (2.0 * std::sqrt(fastest) * dt + gravity.norm() * dt * dt);
+  std::copy(state.x.begin(), state.x.end(), start_.begin());
+  pairs_ = 0;
+  for (Group& g : groups_) {
+    g.edge_pairs.clear();
+    g.corner_pairs.clear();
+  }
+  for (size_t k = 0; k < colliders.size(); ++k) {
+    const Collider& c = colliders[k];
+    if (!c.features || c.features->empty()) continue;
+    Group& g = group_for(c.features);
+    hide(colliders, k, g);
+    const Mat3 back = c.pose.rotation.transpose();
+    for (size_t i = 0; i < start_.size(); ++i) local_[i] = back * (start_[i] - c.pose.translation);
+    gather(g, c.thickness + allowed_ + travel[k], c.thickness);
+    pairs_ += int64_t(g.edge_pairs.size() + g.corner_pairs.size());
+  }
+}
+
+void FeatureContacts::hide(const std::vector<Collider>& colliders, size_t k, Group& g) {
+  const Collider& c = colliders[k];
+  auto buried = [&](const Vec3& local) {
+    const Vec3 x = c.pose.apply(local);
+    Vec3 n;
+    for (size_t j = 0; j < colliders.size(); ++j)
+      if (j != k && !clear_of(colliders[j], x) &&
+          signed_distance(colliders[j], x, n) < colliders[j].thickness)
+        return true;
+    return false;
+  };
+  const SharpFeatures& f = *g.features;
+  const size_t edges = f.edges.size();
+  for (size_t e = 0; e < edges; ++e) g.hidden[e] = buried(f.edges[e].a) && buried(f.edges[e].b);
+  for (size_t j = 0; j < f.corners.size(); ++j) g.hidden[edges + j] = buried(f.corners[j].p);
+}
+
+void FeatureContacts::gather(Group& g, double margin, double gap) {
+  const int32_t edge_features = int32_t(g.features->edges.size());
+  int32_t stamp = 0;
+  // The features whose boxes overlap [lo, hi], each once, to `found`.
+  auto query = [&](Vec3 lo, Vec3 hi, bool edges, auto&& found) {
+    lo.array() -= margin;
+    hi.array() += margin;
+    ++stamp;
+    auto test = [&](int32_t k) {
+      if ((k < edge_features) != edges || g.seen[k] == stamp || g.hidden[k]) return;
+      g.seen[k] = stamp;
+      if ((g.lo[k].array() <= hi.array()).all() && (lo.array() <= g.hi[k].array()).all())
+        found(edges ? k : k - edge_features);
+    };
+    const Eigen::Array3i a = (lo / g.cell).array().floor().cast<int>();
+    const Eigen::Array3i b = (hi / g.cell).array().floor().cast<int>();
+    const Eigen::Array3i span = b - a + 1;
+    if (int64_t(span.x()) * span.y() * span.z() > kMaxCells) {
+      for (int32_t k = 0; k < int32_t(g.lo.size()); ++k) test(k);
+      return;
+    }
+    for (int i = a.x(); i <= b.x(); ++i)
+      for (int j = a.y(); j <= b.y(); ++j)
+        for (int l = a.z(); l <= b.z(); ++l) {
+          const auto it = g.grid.find(cell_key(i, j, l));
+          if (it != g.grid.end())
+            for (int32_t k : it->second) test(k);
+        }
+  };
+  std::fill(g.seen.begin(), g.seen.end(), -1);
+  for (int32_t e = 0; e < int32_t(edges_.size()); ++e) {
+    const Vec3 &p = local_[edges_[e][0]], &q = local_[edges_[e][1]];
+    query(p.cwiseMin(q), p.cwiseMax(q), true, [&](int32_t j) { g.edge_pairs.emplace_back(j, e); });
+  }
+  for (int32_t t = 0; t < int32_t(triangles_.size()); ++t) {
+    const Vec3 &a = local_[triangles_[t][0]], &b = local_[triangles_[t][1]],
+               &c = local_[triangles_[t][2]];
+    query(a.cwiseMin(b).cwiseMin(c), a.cwiseMax(b).cwiseMax(c), false, [&](int32_t j) {
+      g.corner_pairs.push_back({j, t, corner_side(g.features->corners[j], a, b, c, gap)});
+    });
+  }
+}
+
+void FeatureContacts::check(const std::vector<Vec3>& x) {
+  if (pairs_ == 0 && groups_.empty()) return;
+  double farthest = 0.0;
+  for (size_t i = 0; i < x.size(); ++i)
+    farthest = std::max(farthest, (x[i] - start_[i]).squaredNorm());
+  if (std::sqrt(farthest) > allowed_)
+    boost_ = std::min(2.0 * boost_, 1024.0);
+  else
+    boost_ = std::max(1.0, 0.95 * boost_);
+}
+
+int64_t FeatureContacts::bytes() const {
+  int64_t total = heap_bytes(edges_, triangles_, groups_, start_, local_);
+  for (const Group& g : groups_) {
+    total += heap_bytes(g.edge_pairs, g.corner_pairs, g.lo, g.hi, g.seen, g.hidden);
+    for (const auto& [key, cell] : g.grid) total += heap_bytes(cell) + int64_t(sizeof(key)) * 2;
+  }
+  return total;
+}
+
+}  // namespace drape

@@ -1,0 +1,213 @@
+// Contacts between the cloth and the sharp features of boxes and closed meshes
+// (sharp_features.h): a collider edge against the cloth's edges, a collider corner against the
+// cloth's triangles, the two pairs through which a convex body can pass into a cloth whose
+// particles all lie outside it (the vertex–face and edge–edge pairs of cloth contact, the
+// body's side being the features').
+//
+// A cloth edge that lies across a collider edge (not wholly beyond either of its faces' planes)
+// keeps its point nearest that edge at least the thickness beyond it, along the edge's outward
+// direction; a cloth triangle over a collider corner (the corner's projection inside it, the
+// triangle not wholly beyond any of the corner's face planes) keeps the thickness above the
+// corner along its normal. Each is pushed out at that point, the push shared between its
+// particles by their weights there and inverse masses, as the triangle contacts of round
+// bodies are (triangle_contact.h).
+//
+// Which pairs can meet is found once per frame (gather): the cloth's edges and triangles whose
+// boxes at the frame's start, widened by a margin for what the frame can move them, overlap a
+// feature's. The margin is twice the distance the fastest particle covers in the frame at its
+// start velocity plus gravity's, the thickness, and the collider's own travel; a frame whose
+// particles moved farther (check) doubles it from the next frame on.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <unordered_map>
+#include <utility>
+#include <vector>
+
+#include "collision/closest_points.h"
+#include "collision/sharp_features.h"
+#include "drape/cloth.h"
+#include "drape/collider.h"
+
+namespace drape {
+
+/// A push at one point of the cloth: the point Σ w[k]·x[index[k]] (count particles) moves by
+/// depth along the unit n.
+struct PointPush {
+  int count = 0;
+  int32_t index[3] = {0, 0, 0};
+  double w[3] = {1.0, 0.0, 0.0};
+  Vec3 n = Vec3::UnitY();
+  double depth = 0.0;
+};
+
+/// The push that keeps cloth edge p–q at `gap` beyond collider edge e, or false where it needs
+/// none or they cannot meet (all in one frame); s is the pushed point's place along p–q.
+bool edge_edge_push(const SharpFeatures::Edge& e, const Vec3& p, const Vec3& q, double gap,
+                    double& s, Vec3& n, double& depth);
+/// The side of corner c the triangle x0 x1 x2 over it lies on along its own normal
+/// (x1 − x0)×(x2 − x0): +1 or −1, or 0 (undecided) where the triangle lies within half the gap
+/// of the corner or the corner's projection on it falls outside it.
+int corner_side(const SharpFeatures::Corner& c, const Vec3& x0, const Vec3& x1, const Vec3& x2,
+                double gap);
+/// The push that keeps triangle x0 x1 x2 at `gap` beyond corner c (its face normals
+/// faces[0 .. c.count)) on `side` (corner_side at the frame's start; 0: the side the corner
+/// points to), or false where it needs none or they cannot meet (all in one frame); w are the
+/// weights of the corner's projection on the triangle. A triangle that lay beside the body
+/// past the corner at the frame's start (a cloth on the ground round a box's foot) stays there.
+bool corner_triangle_push(const SharpFeatures::Corner& c, const Vec3* faces, const Vec3& x0,
+                          const Vec3& x1, const Vec3& x2, double gap, int side, double w[3],
+                          Vec3& n, double& depth);
+
+class FeatureContacts {
+ public:
+  /// Sets up for the cloth's edges and triangles.
+  void prepare(const ClothModel& model);
+
+  /// Finds the pairs that can meet in the frame ahead of dt (s). `colliders` are posed at the
+  /// frame's start, `travel` (m) is how far each one's surface moves at most in the frame.
+  void gather(const std::vector<Collider>& colliders, const std::vector<double>& travel,
+              const ClothState& state, const Vec3& gravity, double dt);
+  /// After the frame: widens the next frames' margin if a particle moved farther than this
+  /// frame's allowed for.
+  void check(const std::vector<Vec3>& x);
+  /// Whether any pair was found for this frame.
+  bool any() const { return pairs_ > 0; }
+  int64_t pairs() const { return pairs_; }
+
+  /// Applies every pair's push against the colliders posed for this substep (a sweep's poses
+  /// included): `cloth` gives position(i) and inv_mass(i) of particle i and carries out
+  /// push(PointPush, collider). Serial: pairs share particles.
+  template <class Cloth>
+  void apply(const std::vector<Collider>& colliders, Cloth& cloth) const;
+
+  int64_t bytes() const;
+
+ private:
+  // A corner, a cloth triangle and the side the triangle lay on at the frame's start.
+  struct CornerPair {
+    int32_t corner, triangle;
+    int side;
+  };
+  // A collider's features with the cloth's edges (edge_pairs: feature edge, cloth edge) and
+  // triangles that can meet them this frame.
+  struct Group {
+    std::shared_ptr<const SharpFeatures> features;
+    std::vector<std::pair<int32_t, int32_t>> edge_pairs;
+    std::vector<CornerPair> corner_pairs;
+    // A uniform grid over the features' boxes (definition frame): cell key → features
+    // (edges first, then corners, by index).
+    double cell = 1.0;
+    std::unordered_map<uint64_t, std::vector<int32_t>> grid;
+    std::vector<Vec3> lo, hi;  ///< each feature's box
+    std::vector<int32_t> seen;
+    /// 1 for a feature within another collider's thickness (a box's foot on the ground): the
+    /// cloth cannot reach it, and pushed from it the cloth would be pinched between the two.
+    std::vector<uint8_t> hidden;
+  };
+  Group& group_for(const std::shared_ptr<const SharpFeatures>& features);
+  const Group* find(const SharpFeatures* features) const;
+  void gather(Group& g, double margin, double gap);
+  /// Marks collider k's features that lie in other colliders (posed as `colliders`).
+  void hide(const std::vector<Collider>& colliders, size_t k, Group& g);
+
+  std::vector<std::array<int32_t, 2>> edges_;
+  std::vector<Triangle> triangles_;
+  std::vector<Group> groups_;
+  std::vector<Vec3> start_, local_;
+  double mean_edge_ = 0.0;
+  double allowed_ = 0.0;  ///< m, the motion this frame's margin allowed for
+  double boost_ = 1.0;
+  int64_t pairs_ = 0;
+};
+
+template <class Cloth>
+void FeatureContacts::apply(const std::vector<Collider>& colliders, Cloth& cloth) const {
+  if (pairs_ == 0) return;
+  for (const Collider& c : colliders) {
+    const Group* g = c.features ? find(c.features.get()) : nullptr;
+    if (!g) continue;
+    // In the features' (definition) frame; the push's direction turned back into the world.
+    const Mat3& R = c.pose.rotation;
+    auto local = [&](int32_t i) {
+      return Vec3(R.transpose() * (cloth.position(i) - c.pose.translation));
+    };
+    const SharpFeatures& f = *g->features;
+    PointPush push;
+    for (const auto& [j, e] : g->edge_pairs) {
+      const int32_t p = edges_[e][0], q = edges_[e][1];
+      double s = 0.0;
+      if (!edge_edge_push(f.edges[j], local(p), local(q), c.thickness, s, push.n, push.depth))
+        continue;
+      push.count = 2;
+      push.index[0] = p, push.index[1] = q;
+      push.w[0] = 1.0 - s, push.w[1] = s;
+      push.n = R * push.n;
+      cloth.push(push, c);
+    }
+    for (const CornerPair& pair : g->corner_pairs) {
+      const SharpFeatures::Corner& corner = f.corners[pair.corner];
+      const Triangle& tri = triangles_[pair.triangle];
+      if (!corner_triangle_push(corner, &f.face_normals[corner.first], local(tri[0]), local(tri[1]),
+                                local(tri[2]), c.thickness, pair.side, push.w, push.n, push.depth))
+        continue;
+      push.count = 3;
+      for (int k = 0; k < 3; ++k) push.index[k] = tri[k];
+      push.n = R * push.n;
+      cloth.push(push, c);
+    }
+  }
+}
+
+/// The moves of a push's particles: each by w·inverse mass·depth / Σ w²·inverse mass along n
+/// (the position-based rule for a constraint on Σ w[k]·x[k]); false where all are fixed.
+template <class InvMass>
+bool push_moves(const PointPush& push, InvMass inv_mass, Vec3 moves[3], double& sum) {
+  sum = 0.0;
+  for (int k = 0; k < push.count; ++k) sum += push.w[k] * push.w[k] * inv_mass(push.index[k]);
+  if (!(sum > 0.0)) return false;
+  for (int k = 0; k < push.count; ++k)
+    moves[k] = (push.w[k] * inv_mass(push.index[k]) * push.depth / sum) * push.n;
+  return true;
+}
+
+/// The change `slip` (a velocity or a move of the contact point relative to the surface) less
+/// its part along n, shortened by friction·`normal` (Coulomb's bound on what a normal change of
+/// that size can hold), never reversed: what friction takes off the point.
+inline Vec3 friction_change(const Vec3& slip, const Vec3& n, double friction, double normal) {
+  const Vec3 tangential = slip - slip.dot(n) * n;
+  const double length = tangential.norm();
+  const double bound = friction * normal;
+  return length <= bound ? tangential : Vec3(tangential * (bound / length));
+}
+
+/// The cloth's state as FeatureContacts::apply wants it, for the methods that keep it there:
+/// a push moves the particles, removes the point's velocity into the surface (relative to the
+/// surface's own) and, with Coulomb friction, its sliding by up to friction × that change.
+struct StateCloth {
+  ClothState& state;
+  Vec3 position(int32_t i) const { return state.x[i]; }
+  void push(const PointPush& push, const Collider& c) {
+    Vec3 moves[3];
+    double sum = 0.0;
+    if (!push_moves(
+            push, [&](int32_t i) { return state.inv_mass[i]; }, moves, sum))
+      return;
+    Vec3 point = Vec3::Zero(), v = Vec3::Zero();
+    for (int k = 0; k < push.count; ++k) {
+      state.x[push.index[k]] += moves[k];
+      point += push.w[k] * state.x[push.index[k]];
+      v += push.w[k] * state.v[push.index[k]];
+    }
+    const Vec3 rel = v - c.surface_velocity(point);
+    const double vn = rel.dot(push.n);
+    if (vn >= 0.0) return;
+    const Vec3 change = -vn * push.n - friction_change(rel, push.n, c.friction, -vn);
+    for (int k = 0; k < push.count; ++k)
+      state.v[push.index[k]] += (push.w[k] * state.inv_mass[push.index[k]] / sum) * change;
+  }
+};
+
+}  // namespace drape

@@ -1,0 +1,147 @@
+// Sharp features of colliders (a box's and a closed mesh's convex edges and corners) and the
+// pushes that keep the cloth's edges and triangles out of them, against closed forms.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "collision/feature_contacts.h"
+#include "collision/motion.h"
+#include "collision/sharp_features.h"
+
+namespace drape {
+namespace {
+
+// A box has twelve edges, each between two faces whose normals are two of its axes, and
+// eight corners pointing out along the diagonals; its faces' diagonals are not features.
+TEST(SharpFeatures, ABoxHasTwelveEdgesAndEightCorners) {
+  const Mat3 R = rotation_xyz(Vec3(10.0, 20.0, 30.0));
+  const Vec3 centre(0.1, 0.2, 0.3), half(0.3, 0.2, 0.1);
+  const SharpFeatures f = box_features(centre, half, R);
+  ASSERT_EQ(f.edges.size(), 12u);
+  ASSERT_EQ(f.corners.size(), 8u);
+  for (const SharpFeatures::Edge& e : f.edges) {
+    EXPECT_NEAR(e.n1.dot(e.n2), 0.0, 1e-12);
+    // Both ends on both faces' planes, at the half extent along each normal.
+    for (const Vec3& n : {e.n1, e.n2}) {
+      const Vec3 local = R.transpose() * n;
+      double extent = 0.0;
+      for (int k = 0; k < 3; ++k) extent += std::abs(local[k]) * half[k];
+      EXPECT_NEAR(n.dot(e.a - centre), extent, 1e-12);
+      EXPECT_NEAR(n.dot(e.b - centre), extent, 1e-12);
+    }
+    const double length = (e.b - e.a).norm();
+    EXPECT_TRUE(std::abs(length - 0.6) < 1e-12 || std::abs(length - 0.4) < 1e-12 ||
+                std::abs(length - 0.2) < 1e-12);
+  }
+  for (const SharpFeatures::Corner& c : f.corners) {
+    const Vec3 local = R.transpose() * (c.p - centre);
+    EXPECT_TRUE(local.cwiseAbs().isApprox(half, 1e-12));
+    EXPECT_TRUE((R.transpose() * c.n).isApprox(local.cwiseSign() / std::sqrt(3.0), 1e-12));
+    // Its faces' normals: the three axes it lies out along (once or twice each: a face's
+    // two triangles meet at two of its corners).
+    ASSERT_GE(c.count, 3);
+    for (int k = 0; k < c.count; ++k) {
+      const Vec3 n = R.transpose() * f.face_normals[c.first + k];
+      EXPECT_NEAR(n.cwiseAbs().maxCoeff(), 1.0, 1e-12);
+      EXPECT_GT(n.dot(local.cwiseSign()), 0.0);
+    }
+  }
+}
+
+// A closed mesh: a finely tessellated ball has no sharp features; a coarse one (an octahedral
+// ball, faces turning by 45° and more) has them at every edge and corner.
+TEST(SharpFeatures, ASmoothMeshHasNoneAndACoarseOneHasThem) {
+  auto ball = [](int segments, int rings) {
+    std::vector<Vec3> v;
+    std::vector<Triangle> t;
+    v.push_back(Vec3(0.0, 1.0, 0.0));
+    for (int r = 1; r < rings; ++r)
+      for (int s = 0; s < segments; ++s) {
+        const double theta = M_PI * r / rings, phi = 2.0 * M_PI * s / segments;
+        v.push_back(Vec3(std::sin(theta) * std::cos(phi), std::cos(theta),
+                         -std::sin(theta) * std::sin(phi)));
+      }
+    v.push_back(Vec3(0.0, -1.0, 0.0));
+    const int32_t bottom = int32_t(v.size()) - 1;
+    auto at = [&](int r, int s) { return 1 + (r - 1) * segments + (s % segments); };
+    for (int s = 0; s < segments; ++s) t.push_back({0, at(1, s), at(1, s + 1)});
+    for (int r = 1; r + 1 < rings; ++r)
+      for (int s = 0; s < segments; ++s) {
+        t.push_back({at(r, s), at(r + 1, s), at(r + 1, s + 1)});
+        t.push_back({at(r, s), at(r + 1, s + 1), at(r, s + 1)});
+      }
+    for (int s = 0; s < segments; ++s)
+      t.push_back({bottom, at(rings - 1, s + 1), at(rings - 1, s)});
+    return std::make_pair(v, t);
+  };
+  const auto [fine_v, fine_t] = ball(96, 48);
+  EXPECT_TRUE(sharp_features(TriangleShape(fine_v, fine_t), kSharpAngle).empty());
+  const auto [coarse_v, coarse_t] = ball(4, 2);  // an octahedron
+  const SharpFeatures f = sharp_features(TriangleShape(coarse_v, coarse_t), kSharpAngle);
+  EXPECT_EQ(f.edges.size(), 12u);
+  EXPECT_EQ(f.corners.size(), 6u);
+  for (const SharpFeatures::Corner& c : f.corners) EXPECT_TRUE(c.n.isApprox(c.p, 1e-12));
+}
+
+// A cloth edge lying across a right-angled edge (along z, faces +x and +y) and passing inside
+// it: its point nearest the edge, halfway, is pushed out along the diagonal to the gap.
+TEST(FeaturePush, AClothEdgeAcrossABoxEdgeIsPushedOutToTheGap) {
+  const SharpFeatures::Edge e{Vec3(0.0, 0.0, -1.0), Vec3(0.0, 0.0, 1.0), Vec3::UnitX(),
+                              Vec3::UnitY()};
+  const Vec3 p(-0.1, 0.01, 0.2), q(0.01, -0.1, 0.2);
+  double s = 0.0, depth = 0.0;
+  Vec3 n;
+  ASSERT_TRUE(edge_edge_push(e, p, q, 0.005, s, n, depth));
+  EXPECT_NEAR(s, 0.5, 1e-12);
+  EXPECT_TRUE(n.isApprox(Vec3(1.0, 1.0, 0.0).normalized(), 1e-12));
+  EXPECT_NEAR(depth, 0.005 + 0.09 / std::sqrt(2.0), 1e-12);
+  // Outside by less than the gap: out along the line between the nearest points.
+  const Vec3 lift = (0.09 / std::sqrt(2.0) + 0.003) * Vec3(1.0, 1.0, 0.0).normalized();
+  ASSERT_TRUE(edge_edge_push(e, p + lift, q + lift, 0.005, s, n, depth));
+  EXPECT_NEAR(depth, 0.002, 1e-12);
+  // Farther than the gap, wholly beyond one face, past the edge's end, or an end inside the
+  // body: nothing.
+  EXPECT_FALSE(edge_edge_push(e, p + 2.0 * lift, q + 2.0 * lift, 0.005, s, n, depth));
+  EXPECT_FALSE(edge_edge_push(e, Vec3(-0.1, 0.01, 0.0), Vec3(-0.2, 0.01, 0.1), 0.005, s, n, depth));
+  EXPECT_FALSE(edge_edge_push(e, p + Vec3(0, 0, 1.5), q + Vec3(0, 0, 1.5), 0.005, s, n, depth));
+  EXPECT_FALSE(edge_edge_push(e, Vec3(-0.1, -0.01, 0.2), q, 0.005, s, n, depth));
+}
+
+// A triangle through a box's corner (faces +x, +y, +z) is pushed out along its own normal to
+// the gap above it, at the corner's projection (its centroid here).
+TEST(FeaturePush, ATriangleOverACornerIsPushedOutAlongItsNormal) {
+  SharpFeatures::Corner c{Vec3::Zero(), Vec3(1.0, 1.0, 1.0).normalized(), 0, 3};
+  const Vec3 faces[3] = {Vec3::UnitX(), Vec3::UnitY(), Vec3::UnitZ()};
+  const Vec3 sink = -0.01 * Vec3(1.0, 1.0, 1.0).normalized();
+  const Vec3 a = Vec3(0.3, -0.15, -0.15) + sink, b = Vec3(-0.15, 0.3, -0.15) + sink,
+             d = Vec3(-0.15, -0.15, 0.3) + sink;
+  double w[3], depth = 0.0;
+  Vec3 n;
+  ASSERT_TRUE(corner_triangle_push(c, faces, a, b, d, 0.005, 0, w, n, depth));
+  EXPECT_TRUE(n.isApprox(Vec3(1.0, 1.0, 1.0).normalized(), 1e-12));
+  EXPECT_NEAR(depth, 0.015, 1e-12);
+  for (double wk : w) EXPECT_NEAR(wk, 1.0 / 3.0, 1e-12);
+  // Wound the other way, the same push (the side is the corner's, not the winding's).
+  ASSERT_TRUE(corner_triangle_push(c, faces, a, d, b, 0.005, 0, w, n, depth));
+  EXPECT_TRUE(n.isApprox(Vec3(1.0, 1.0, 1.0).normalized(), 1e-12));
+  // A triangle that started the frame on the far side (the corner poking out beyond it, as a
+  // box's foot does through the ground round it) is held there instead, at the gap.
+  const Vec3 up = Vec3(1.0, 1.0, 1.0).normalized();
+  EXPECT_EQ(corner_side(c, a, b, d, 0.005), -1);  // 1 cm below, by its winding's normal
+  EXPECT_EQ(corner_side(c, a - sink, b - sink, d - sink, 0.005), 0);
+  EXPECT_EQ(corner_side(c, a + 0.1 * up, b + 0.1 * up, d + 0.1 * up, 0.005), 1);
+  EXPECT_FALSE(corner_triangle_push(c, faces, a, b, d, 0.005, -1, w, n, depth));
+  const Vec3 near = -0.002 * up - sink;  // 2 mm below
+  ASSERT_TRUE(corner_triangle_push(c, faces, a + near, b + near, d + near, 0.005, -1, w, n, depth));
+  EXPECT_TRUE(n.isApprox(-up, 1e-12));
+  EXPECT_NEAR(depth, 0.003, 1e-12);
+  // Above by more than the gap, or not over the corner: nothing.
+  EXPECT_FALSE(corner_triangle_push(c, faces, a - 3.0 * sink, b - 3.0 * sink, d - 3.0 * sink, 0.005,
+                                    0, w, n, depth));
+  const Vec3 aside(0.5, 0.0, -0.5);
+  EXPECT_FALSE(
+      corner_triangle_push(c, faces, a + aside, b + aside, d + aside, 0.005, 0, w, n, depth));
+}
+
+}  // namespace
+}  // namespace drape
