@@ -142,6 +142,21 @@ class ViewerSmoke : public drape::testing_support::TempDirTest {
     fs::permissions(bin / "ffmpeg", fs::perms::owner_all);
     return bin.string();
   }
+  /// Runs `drape view` on a shipped scene for 30 frames in a 640×480 window without the panel
+  /// (the 3D view is the whole window) with `args` (a scripted drag), and reads its report into
+  /// `out`. Skips the test without a display.
+  void view_report(const std::string& name, const std::string& args, json& out) {
+    const std::string prefix = display_prefix();
+    if (prefix.empty()) GTEST_SKIP() << "no display: DISPLAY is not set and xvfb-run is missing";
+    const std::string report = path(name + "-report.json");
+    const Result r =
+        shell(prefix + DRAPE_EXE + " view " + scene(name) +
+              " --frames 30 --size 640x480 --no-panel " + args + " --report " + report);
+    if (r.code == kNoGraphics) GTEST_SKIP() << "no OpenGL 3.3 display: " << r.output;
+    ASSERT_EQ(r.code, 0) << r.output;
+    std::ifstream in(report);
+    out = json::parse(in);
+  }
 };
 
 TEST_F(ViewerSmoke, EveryShippedSceneShowsTheClothInTheViewer) {
@@ -221,19 +236,11 @@ TEST_F(ViewerSmoke, TheCameraKeepsABlownClothWholeInTheViewBesideThePanel) {
 }
 
 TEST_F(ViewerSmoke, ScriptedDragHoldsThePickedParticleOnTheRay) {
-  const std::string prefix = display_prefix();
-  if (prefix.empty()) GTEST_SKIP() << "no display: DISPLAY is not set and xvfb-run is missing";
-  // No panel: the 3D view is the whole 640×480 window, and the default camera centres the
-  // hanging cloth, so the press lands on its middle. Drag 100 units right, 20 up.
-  const std::string report = path("drag.json");
-  const Result r = shell(prefix + DRAPE_EXE + " view " + scene("hang") +
-                         " --frames 30 --size 640x480 --no-panel --drag 320,240,420,220"
-                         " --report " +
-                         report);
-  if (r.code == kNoGraphics) GTEST_SKIP() << "no OpenGL 3.3 display: " << r.output;
-  ASSERT_EQ(r.code, 0) << r.output;
-  std::ifstream in(report);
-  const json j = json::parse(in);
+  // The default camera centres the hanging cloth, so the press lands on its middle. Drag 100
+  // units right, 20 up.
+  json j;
+  view_report("hang", "--drag 320,240,420,220", j);
+  if (IsSkipped() || HasFatalFailure()) return;
   const json& d = j.at("drag");
   const int picked = d.at("picked");
   ASSERT_GE(picked, 0) << "nothing picked at the cloth's centre: " << j.dump(2);
@@ -255,19 +262,11 @@ TEST_F(ViewerSmoke, ScriptedDragHoldsThePickedParticleOnTheRay) {
 }
 
 TEST_F(ViewerSmoke, ShiftDragCarriesTheColliderUnderTheCursor) {
-  const std::string prefix = display_prefix();
-  if (prefix.empty()) GTEST_SKIP() << "no display: DISPLAY is not set and xvfb-run is missing";
   // The sphere scene's ball (centre at the origin) sits below the middle of the view; Shift-drag
   // it 100 units right.
-  const std::string report = path("carry.json");
-  const Result r = shell(prefix + DRAPE_EXE + " view " + scene("sphere") +
-                         " --frames 30 --size 640x480 --no-panel --drag 320,300,420,300 --carry"
-                         " --report " +
-                         report);
-  if (r.code == kNoGraphics) GTEST_SKIP() << "no OpenGL 3.3 display: " << r.output;
-  ASSERT_EQ(r.code, 0) << r.output;
-  std::ifstream in(report);
-  const json j = json::parse(in);
+  json j;
+  view_report("sphere", "--drag 320,300,420,300 --carry", j);
+  if (IsSkipped() || HasFatalFailure()) return;
   ASSERT_TRUE(j.contains("carry")) << j.dump(2);
   const json& c = j.at("carry");
   ASSERT_EQ(c.at("picked"), 0) << "the ball was not picked: " << j.dump(2);
