@@ -10,13 +10,8 @@ namespace {
 // A cloth triangle nearly edge-on to a corner's direction has no clear side to be pushed to;
 // the edge pairs hold it.
 constexpr double kEdgeOn = 0.2;
-// The most grid cells one query visits; a wider one tests every feature.
-constexpr int64_t kMaxCells = 64;
-
-uint64_t cell_key(int i, int j, int k) {
-  auto part = [](int v) { return uint64_t(uint32_t(v + (1 << 20)) & 0x1fffff); };
-  return (part(i) << 42) | (part(j) << 21) | part(k);
-}
+// The most cells a grid has: a grid over widely spread features takes wider cells.
+constexpr int64_t kMaxGridCells = int64_t{1} << 18;
 
 }  // namespace
 
@@ -104,6 +99,43 @@ void FeatureContacts::prepare(const ClothModel& model) {
   pairs_ = 0;
 }
 
+void FeatureContacts::Grid::build(const std::vector<Vec3>& lo, const std::vector<Vec3>& hi,
+                                  int32_t first, int32_t count, double min_cell) {
+  begin.assign(1, 0);
+  entries.clear();
+  dims.setZero();
+  if (count == 0) return;
+  // Cells about as wide as the features' mean box, and never narrower than the cloth's edges.
+  origin = lo[first];
+  top = hi[first];
+  double extent = 0.0;
+  for (int32_t k = first; k < first + count; ++k) {
+    origin = origin.cwiseMin(lo[k]);
+    top = top.cwiseMax(hi[k]);
+    extent += (hi[k] - lo[k]).maxCoeff();
+  }
+  cell = std::max(extent / count, min_cell);
+  if (!(cell > 0.0)) cell = std::max((top - origin).maxCoeff(), 1.0);
+  auto size = [&] { return ((top - origin) / cell).array().floor().cast<int>() + 1; };
+  while (int64_t(size().x()) * size().y() * size().z() > kMaxGridCells) cell *= 2.0;
+  dims = size();
+  auto index = [&](int i, int j, int l) { return (int64_t(l) * dims.y() + j) * dims.x() + i; };
+  auto each_cell = [&](int32_t k, auto&& f) {
+    const Eigen::Array3i a = ((lo[k] - origin) / cell).array().floor().cast<int>().min(dims - 1);
+    const Eigen::Array3i b = ((hi[k] - origin) / cell).array().floor().cast<int>().min(dims - 1);
+    for (int l = a.z(); l <= b.z(); ++l)
+      for (int j = a.y(); j <= b.y(); ++j)
+        for (int i = a.x(); i <= b.x(); ++i) f(index(i, j, l));
+  };
+  begin.assign(dims.prod() + 1, 0);
+  for (int32_t k = first; k < first + count; ++k) each_cell(k, [&](int64_t c) { ++begin[c + 1]; });
+  for (size_t c = 1; c < begin.size(); ++c) begin[c] += begin[c - 1];
+  entries.resize(begin.back());
+  std::vector<int32_t> fill(begin.begin(), begin.end() - 1);
+  for (int32_t k = first; k < first + count; ++k)
+    each_cell(k, [&](int64_t c) { entries[fill[c]++] = k; });
+}
+
 FeatureContacts::Group& FeatureContacts::group_for(
     const std::shared_ptr<const SharpFeatures>& features) {
   for (Group& g : groups_)
@@ -119,18 +151,9 @@ FeatureContacts::Group& FeatureContacts::group_for(
     g.lo.push_back(c.p);
     g.hi.push_back(c.p);
   }
-  // Cells about as wide as the features' mean box, and never narrower than the cloth's edges.
-  double extent = 0.0;
-  for (size_t k = 0; k < g.lo.size(); ++k) extent += (g.hi[k] - g.lo[k]).maxCoeff();
-  g.cell = std::max(extent / std::max<size_t>(g.lo.size(), 1), mean_edge_);
-  if (!(g.cell > 0.0)) g.cell = 1.0;
-  for (size_t k = 0; k < g.lo.size(); ++k) {
-    const Eigen::Array3i lo = (g.lo[k] / g.cell).array().floor().cast<int>();
-    const Eigen::Array3i hi = (g.hi[k] / g.cell).array().floor().cast<int>();
-    for (int i = lo.x(); i <= hi.x(); ++i)
-      for (int j = lo.y(); j <= hi.y(); ++j)
-        for (int l = lo.z(); l <= hi.z(); ++l) g.grid[cell_key(i, j, l)].push_back(int32_t(k));
-  }
+  const int32_t edges = int32_t(f.edges.size()), corners = int32_t(f.corners.size());
+  g.edge_grid.build(g.lo, g.hi, 0, edges, mean_edge_);
+  g.corner_grid.build(g.lo, g.hi, edges, corners, mean_edge_);
   g.seen.assign(g.lo.size(), -1);
   g.hidden.assign(g.lo.size(), 0);
   return g;
@@ -191,26 +214,12 @@ void FeatureContacts::gather(Group& g, double margin, double gap) {
     lo.array() -= margin;
     hi.array() += margin;
     ++stamp;
-    auto test = [&](int32_t k) {
-      if ((k < edge_features) != edges || g.seen[k] == stamp || g.hidden[k]) return;
+    (edges ? g.edge_grid : g.corner_grid).query(lo, hi, [&](int32_t k) {
+      if (g.seen[k] == stamp || g.hidden[k]) return;
       g.seen[k] = stamp;
       if ((g.lo[k].array() <= hi.array()).all() && (lo.array() <= g.hi[k].array()).all())
         found(edges ? k : k - edge_features);
-    };
-    const Eigen::Array3i a = (lo / g.cell).array().floor().cast<int>();
-    const Eigen::Array3i b = (hi / g.cell).array().floor().cast<int>();
-    const Eigen::Array3i span = b - a + 1;
-    if (int64_t(span.x()) * span.y() * span.z() > kMaxCells) {
-      for (int32_t k = 0; k < int32_t(g.lo.size()); ++k) test(k);
-      return;
-    }
-    for (int i = a.x(); i <= b.x(); ++i)
-      for (int j = a.y(); j <= b.y(); ++j)
-        for (int l = a.z(); l <= b.z(); ++l) {
-          const auto it = g.grid.find(cell_key(i, j, l));
-          if (it != g.grid.end())
-            for (int32_t k : it->second) test(k);
-        }
+    });
   };
   std::fill(g.seen.begin(), g.seen.end(), -1);
   for (int32_t e = 0; e < int32_t(edges_.size()); ++e) {
@@ -240,8 +249,8 @@ void FeatureContacts::check(const std::vector<Vec3>& x) {
 int64_t FeatureContacts::bytes() const {
   int64_t total = heap_bytes(edges_, triangles_, groups_, start_, local_);
   for (const Group& g : groups_) {
-    total += heap_bytes(g.edge_pairs, g.corner_pairs, g.lo, g.hi, g.seen, g.hidden);
-    for (const auto& [key, cell] : g.grid) total += heap_bytes(cell) + int64_t(sizeof(key)) * 2;
+    total += heap_bytes(g.edge_pairs, g.corner_pairs, g.lo, g.hi, g.seen, g.hidden, g.edge_grid.begin,
+                        g.edge_grid.entries, g.corner_grid.begin, g.corner_grid.entries);
   }
   return total;
 }

@@ -22,7 +22,6 @@
 #include <array>
 #include <cstdint>
 #include <memory>
-#include <unordered_map>
 #include <utility>
 #include <vector>
 
@@ -91,17 +90,29 @@ class FeatureContacts {
     int32_t corner, triangle;
     int side;
   };
+  // A uniform grid over some features' boxes (definition frame), as lists of their indices
+  // per cell over the box around them all.
+  struct Grid {
+    Vec3 origin = Vec3::Zero(), top = Vec3::Zero();
+    double cell = 1.0;
+    Eigen::Array3i dims = Eigen::Array3i::Zero();
+    std::vector<int32_t> begin, entries;
+    /// Enters the boxes [lo[k], hi[k]] for k in [first, first + count).
+    void build(const std::vector<Vec3>& lo, const std::vector<Vec3>& hi, int32_t first,
+               int32_t count, double min_cell);
+    /// Calls f(k) for every entry of the cells [lo, hi] meets (a feature once per cell, or
+    /// every entry where that is fewer).
+    template <class F>
+    void query(const Vec3& lo, const Vec3& hi, F&& f) const;
+  };
   // A collider's features with the cloth's edges (edge_pairs: feature edge, cloth edge) and
   // triangles that can meet them this frame.
   struct Group {
     std::shared_ptr<const SharpFeatures> features;
     std::vector<std::pair<int32_t, int32_t>> edge_pairs;
     std::vector<CornerPair> corner_pairs;
-    // A uniform grid over the features' boxes (definition frame): cell key → features
-    // (edges first, then corners, by index).
-    double cell = 1.0;
-    std::unordered_map<uint64_t, std::vector<int32_t>> grid;
-    std::vector<Vec3> lo, hi;  ///< each feature's box
+    Grid edge_grid, corner_grid;  ///< edges as 0.., corners after them
+    std::vector<Vec3> lo, hi;     ///< each feature's box
     std::vector<int32_t> seen;
     /// 1 for a feature within another collider's thickness (a box's foot on the ground): the
     /// cloth cannot reach it, and pushed from it the cloth would be pinched between the two.
@@ -159,6 +170,24 @@ void FeatureContacts::apply(const std::vector<Collider>& colliders, Cloth& cloth
       cloth.push(push, c);
     }
   }
+}
+
+template <class F>
+void FeatureContacts::Grid::query(const Vec3& lo, const Vec3& hi, F&& f) const {
+  if (dims.x() == 0 || (hi.array() < origin.array()).any() || (lo.array() > top.array()).any())
+    return;
+  const Eigen::Array3i a = ((lo - origin) / cell).array().floor().cast<int>().max(0);
+  const Eigen::Array3i b = ((hi - origin) / cell).array().floor().cast<int>().min(dims - 1);
+  if ((b - a + 1).cast<int64_t>().prod() > int64_t(entries.size())) {  // cheaper to read all
+    for (int32_t k : entries) f(k);
+    return;
+  }
+  for (int l = a.z(); l <= b.z(); ++l)
+    for (int j = a.y(); j <= b.y(); ++j)
+      for (int i = a.x(); i <= b.x(); ++i) {
+        const int64_t c = (int64_t(l) * dims.y() + j) * dims.x() + i;
+        for (int32_t e = begin[c]; e < begin[c + 1]; ++e) f(entries[e]);
+      }
 }
 
 /// The moves of a push's particles: each by w·inverse mass·depth / Σ w²·inverse mass along n

@@ -20,10 +20,12 @@ namespace drape {
 /// Unilateral constraints act only when stretched. Real is double or float (the solver's
 /// storage); the arithmetic is done in it. Returns Δλ.
 template <bool kUnilateral, bool kDamped, typename Real>
-inline Real xpbd_project(const Real* __restrict bx, const Real* __restrict by,
-                         const Real* __restrict bz, Real* __restrict mx, Real* __restrict my,
-                         Real* __restrict mz, const Real* __restrict w, int i, int j, Real rest,
-                         Real alpha_tilde, Real gamma, Real lambda) {
+[[gnu::always_inline]] inline Real xpbd_project(const Real* __restrict bx,
+                                                const Real* __restrict by,
+                                                const Real* __restrict bz, Real* __restrict mx,
+                                                Real* __restrict my, Real* __restrict mz,
+                                                const Real* __restrict w, int i, int j, Real rest,
+                                                Real alpha_tilde, Real gamma, Real lambda) {
   const Real rx = mx[j] - mx[i], ry = my[j] - my[i], rz = mz[j] - mz[i];
   const Real dx = (bx[j] - bx[i]) + rx, dy = (by[j] - by[i]) + ry, dz = (bz[j] - bz[i]) + rz;
   const Real len2 = dx * dx + dy * dy + dz * dz;
