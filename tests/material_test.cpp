@@ -264,7 +264,7 @@ TEST(AreaDrag, TerminalSpeedIsTheSameAtEveryResolution) {
 // The same denim draped over the sphere (scenes/sphere-denim.json) at 32, 64 and 128 cells a
 // side: the shadow from above, the mean height and the lowest point of 64 and 128 agree within
 // 2% and 1 cm. 32 cells (6 cm cells for folds about 10 cm wide) is printed, not held: its
-// shadow is 6.5% larger (measured). The particles the grids share (every particle of the
+// shadow is 4 to 6% larger (measured). The particles the grids share (every particle of the
 // 32-cell grid is one of the finer grids') are printed too: folds fall in other places.
 TEST(MaterialConvergence, DenimOverTheSphereEndsInTheSameShapeAt32_64And128Cells) {
   struct Shape {
