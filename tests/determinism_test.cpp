@@ -46,7 +46,6 @@ TEST(Determinism, EachShippedSceneAndMethodHashesTheSameTwice) {
   for (const std::string& name : testing_support::shipped_scene_names()) {
     for (Method method : kAllMethods) {
       SceneDef def = shipped(name);
-      if (def.cloth.material && method == Method::xpbd) continue;  // refused: not yet supported
       def.solver.method = method;
       if (method == Method::symplectic) {
         // A stiff material on fine cells needs more explicit substeps than max_substeps allows
@@ -77,7 +76,7 @@ TEST(Determinism, TheThreadCountDoesNotChangeTheBits) {
   const int before = omp_get_max_threads();
   // The seed's method, then xpbd (its grid sweeps with stiff sweeps, and line passes with
   // attachments and stiff sweeps after them) in both precisions, then auto (which the default
-  // thread count's choice, app/thread_chooser.h, relies on).
+  // thread count's choice, app/thread_chooser.h, relies on), then xpbd with a material.
   for (Precision precision : {Precision::f64, Precision::f32}) {
     for (int variant = 0; variant < 4; ++variant) {
       const bool xpbd = variant == 1 || variant == 2, lines = variant == 2;
@@ -97,6 +96,19 @@ TEST(Determinism, TheThreadCountDoesNotChangeTheBits) {
       EXPECT_EQ(one, two) << to_string(d.solver.method) << " " << to_string(precision)
                           << (lines ? " with line passes" : "");
     }
+  }
+  // xpbd with a material (the mesh solver on the grid: springs softened in compression, bending
+  // elements in colours of their own, area drag, damping on the velocities), both precisions.
+  SceneDef denim = shipped("sphere-denim");
+  denim.cloth.cols = denim.cloth.rows = 96;
+  denim.solver.method = Method::xpbd;
+  for (Precision precision : {Precision::f64, Precision::f32}) {
+    denim.solver.precision = precision;
+    omp_set_num_threads(1);
+    const uint64_t one = run(denim, 2);
+    omp_set_num_threads(2);
+    const uint64_t two = run(denim, 2);
+    EXPECT_EQ(one, two) << "xpbd with a material, " << to_string(precision);
   }
   omp_set_num_threads(before);
 #endif

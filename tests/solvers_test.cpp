@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Eigenvalues>
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <functional>
@@ -89,6 +90,103 @@ TEST(XpbdDistance, DampingResistsTheRelativeMotionAlongTheSpring) {
     EXPECT_LT(-d.dxj.x() - d.dxi.x(), moved_j.x());
     last = -d.dxj.x();
   }
+}
+
+TEST(XpbdDistance, ACompressedSoftenedSpringActsWithTheCompressionsStiffness) {
+  // Compressed, a spring softened by c acts as one of stiffness c·k: compliance α̃/c, damping
+  // γ/c. Stretched, softening changes nothing. With c = 0 and no damping it does not act.
+  const Vec3 xi(0.0, 0.0, 0.0), moved_j(0.02, 0.01, 0.0);
+  const double alpha = 3.0, gamma = 0.4, c = 0.1;
+  for (double length : {0.8, 1.3}) {
+    const Vec3 xj(length, 0.1, 0.0);
+    const DistanceCorrection soft =
+        xpbd_distance(xi, 1.0, xj, 2.0, 1.0, alpha, gamma, Vec3::Zero(), moved_j, 0.0, c);
+    const double f = length < 1.0 ? c : 1.0;
+    const DistanceCorrection as_k =
+        xpbd_distance(xi, 1.0, xj, 2.0, 1.0, alpha / f, gamma / f, Vec3::Zero(), moved_j, 0.0);
+    EXPECT_NEAR((soft.dxj - as_k.dxj).norm(), 0.0, 1e-15) << length;
+    EXPECT_NEAR((soft.dxi - as_k.dxi).norm(), 0.0, 1e-15) << length;
+  }
+  const DistanceCorrection none = xpbd_distance(xi, 1.0, Vec3(0.5, 0.0, 0.0), 2.0, 1.0, alpha, 0.0,
+                                                Vec3::Zero(), Vec3::Zero(), 0.0, 0.0);
+  EXPECT_EQ(none.dxj, Vec3::Zero());
+  EXPECT_EQ(none.dxi, Vec3::Zero());
+}
+
+// xpbd_bend on four corners given as vectors: their moves.
+std::array<Vec3, 4> bend_moves(const std::array<Vec3, 4>& x, const std::array<double, 4>& inv_mass,
+                               const std::array<double, 4>& weight, double alpha_tilde) {
+  double bx[4], by[4], bz[4], mx[4] = {}, my[4] = {}, mz[4] = {};
+  for (int k = 0; k < 4; ++k) bx[k] = x[k].x(), by[k] = x[k].y(), bz[k] = x[k].z();
+  const int32_t v[4] = {0, 1, 2, 3};
+  double lambda[3] = {0.0, 0.0, 0.0};
+  xpbd_bend(bx, by, bz, mx, my, mz, inv_mass.data(), v, weight.data(), alpha_tilde, lambda);
+  std::array<Vec3, 4> d;
+  for (int k = 0; k < 4; ++k) d[k] = Vec3(mx[k], my[k], mz[k]);
+  return d;
+}
+
+const std::array<Vec3, 4> kBendCorners = {Vec3(0.0, 0.0, 0.0), Vec3(1.0, 0.0, 0.0),
+                                          Vec3(0.5, 0.2, 0.8), Vec3(0.4, -0.1, -0.9)};
+const std::array<double, 4> kBendWeights = {-1.1, -0.9, 1.2, 0.8},
+                            kBendInvMass = {2.0, 1.0, 0.5, 4.0};
+
+TEST(XpbdBend, OneProjectionGivesTheClosedFormAndConservesMomentum) {
+  // The curvature vector C = Σ w_k·x_k is linear in x, so one projection of a rigid element
+  // flattens it exactly, and a compliant one leaves C·α̃/(W + α̃), W = Σ w_k²/m_k, as a
+  // spring's does; Σ w_k = 0 makes the moves momentum-free.
+  Vec3 c = Vec3::Zero();
+  double W = 0.0;
+  for (int k = 0; k < 4; ++k)
+    c += kBendWeights[k] * kBendCorners[k],
+        W += kBendWeights[k] * kBendWeights[k] * kBendInvMass[k];
+  for (double alpha : {0.0, 0.7}) {
+    const std::array<Vec3, 4> d = bend_moves(kBendCorners, kBendInvMass, kBendWeights, alpha);
+    Vec3 after = Vec3::Zero(), momentum = Vec3::Zero();
+    for (int k = 0; k < 4; ++k)
+      after += kBendWeights[k] * (kBendCorners[k] + d[k]), momentum += d[k] / kBendInvMass[k];
+    EXPECT_NEAR((after - c * alpha / (W + alpha)).norm(), 0.0, 1e-14) << alpha;
+    EXPECT_NEAR(momentum.norm(), 0.0, 1e-14) << alpha;
+  }
+}
+
+TEST(XpbdDamping, TakesTheRelativeRateToItsBackwardEulerValueAndKeepsMomentum) {
+  // A spring: the ends' relative speed along it, u, becomes u/(1 + h·c·(wi + wj)); across it
+  // nothing changes.
+  const double h = 0.01, c = 3.0, wi = 2.0, wj = 0.5;
+  double bx[2] = {0.0, 0.6}, by[2] = {0.0, 0.8}, bz[2] = {0.0, 0.0}, m0[2] = {0.0, 0.0};
+  double vx[2] = {0.3, -1.0}, vy[2] = {0.1, 2.0}, vz[2] = {0.0, 1.5}, w[2] = {wi, wj};
+  const Vec3 d(0.6, 0.8, 0.0);
+  auto relative = [&] { return Vec3(vx[1] - vx[0], vy[1] - vy[0], vz[1] - vz[0]); };
+  auto momentum = [&] {
+    return Vec3(vx[0] / wi + vx[1] / wj, vy[0] / wi + vy[1] / wj, vz[0] / wi + vz[1] / wj);
+  };
+  const Vec3 r0 = relative(), p0 = momentum();
+  damp_spring(bx, by, bz, m0, m0, m0, vx, vy, vz, w, 0, 1, h * c);
+  const Vec3 r1 = relative();
+  EXPECT_NEAR(r1.dot(d), r0.dot(d) / (1.0 + h * c * (wi + wj)), 1e-15);
+  EXPECT_NEAR((r1 - r1.dot(d) * d - (r0 - r0.dot(d) * d)).norm(), 0.0, 1e-15);
+  EXPECT_NEAR((momentum() - p0).norm(), 0.0, 1e-14);
+
+  // A bending element: the curvature's rate ċ = Σ w_k·v_k becomes ċ/(1 + h·d·W).
+  double ux[4] = {0.1, -0.2, 0.7, 0.3}, uy[4] = {1.0, 0.0, -0.5, 0.2}, uz[4] = {0.0, 0.4, 0.1, 0.9};
+  auto rate = [&] {
+    Vec3 r = Vec3::Zero();
+    for (int k = 0; k < 4; ++k) r += kBendWeights[k] * Vec3(ux[k], uy[k], uz[k]);
+    return r;
+  };
+  auto bend_momentum = [&] {
+    Vec3 p = Vec3::Zero();
+    for (int k = 0; k < 4; ++k) p += Vec3(ux[k], uy[k], uz[k]) / kBendInvMass[k];
+    return p;
+  };
+  double W = 0.0;
+  for (int k = 0; k < 4; ++k) W += kBendWeights[k] * kBendWeights[k] * kBendInvMass[k];
+  const Vec3 c0 = rate(), q0 = bend_momentum();
+  const int32_t v[4] = {0, 1, 2, 3};
+  damp_bend(ux, uy, uz, kBendInvMass.data(), v, kBendWeights.data(), h * c);
+  EXPECT_NEAR((rate() - c0 / (1.0 + h * c * W)).norm(), 0.0, 1e-14);
+  EXPECT_NEAR((bend_momentum() - q0).norm(), 0.0, 1e-14);
 }
 
 TEST(LongRangeConstraint, ProjectsOntoTheLimitAndRemovesOnlyOutwardVelocity) {

@@ -231,10 +231,10 @@ void check(const SceneDef& def) {
     range(m.shear, 0.0, 1e9, "cloth.material.shear");
     range(m.compression, 0.0, 1.0, "cloth.material.compression");
     range(m.damping, 0.0, 10.0, "cloth.material.damping");
-    require(def.solver.method != Method::xpbd, "solver.method",
-            "xpbd does not run cloth.material yet (its bending elements, softer compression and "
-            "drag by area); use implicit, fast, symplectic or auto (which takes fast for a "
-            "material)");
+    require(def.solver.line_passes == 0, "solver.line_passes",
+            "solves the threads as inextensible chains of one stiffness, which cloth.material's "
+            "threads are not (they differ by direction and buckle under compression); leave it "
+            "at 0 with a material");
   }
 
   const ForcesDef& f = def.forces;

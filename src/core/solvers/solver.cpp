@@ -12,11 +12,16 @@ std::unique_ptr<Solver> make_solver(const SolverDef& def, const ClothModel& mode
   switch (def.method) {
     case Method::symplectic: return make_symplectic();
     case Method::implicit: return make_implicit();
+    // The grid solver's kernels are for the seed's uniform spring families; a material's
+    // springs differ by direction and at the border, and it bends by elements: the mesh
+    // solver runs it on a grid too.
     case Method::xpbd:
-      return model.grid.present() ? make_grid_xpbd(def.precision) : make_mesh_xpbd(def.precision);
+      return model.grid.present() && !model.material ? make_grid_xpbd(def.precision)
+                                                     : make_mesh_xpbd(def.precision);
     case Method::fast: return make_fast();
-    // xpbd does not yet run a material's bending elements, compressed springs and area drag:
-    // auto chooses fast for it, whose prefactored matrix holds the quadratic bending exactly.
+    // auto's ladder is xpbd's line passes and stiff sweeps, which solve the threads as
+    // inextensible chains: a material's threads buckle instead. It chooses fast for a material,
+    // whose prefactored matrix holds the quadratic bending exactly.
     case Method::automatic: return model.material ? make_fast() : make_auto();
   }
   return nullptr;

@@ -91,6 +91,7 @@ class GridXpbd final : public Solver {
     lambda_.assign(iterations_ > 1 ? families_.size() * static_cast<size_t>(slots) : 0, 0.0);
     attached_ = w.attachments.active();
     particles_.prepare_attachments(w.attachments, n, [&](int32_t i) { return grid_.slot(i); });
+    particles_.area_drag(w.forces.air_density > 0.0 && w.forces.drag_coefficient > 0.0);
     prepare_lines(w, def);
     current_ = false;
     if (def.substeps > 0) {
@@ -114,12 +115,15 @@ class GridXpbd final : public Solver {
     // External acceleration, held over the frame: gravity plus the wind at the frame's start.
     // The wind does not depend on the substep's positions, so it is as stable at the frame
     // step as gravity, and evaluating it once keeps many substeps cheap.
+    // Drag on the area (forces.air_density) with the frame's normals, as the wind.
     const bool wind = w.forces.wind.strength > 0.0 && w.forces.wind.coefficient > 0.0;
+    const bool area = w.forces.air_density > 0.0 && w.forces.drag_coefficient > 0.0;
+    if (wind || area) update_normals(m, s);
     if (wind) {
       std::fill(scratch_.begin(), scratch_.end(), Vec3::Zero());
-      update_normals(m, s);
       forces::add_wind(m, s, w.forces.wind, w.time, scratch_);
     }
+    const double half_rho_c = 0.5 * w.forces.air_density * w.forces.drag_coefficient;
     const Vec3 g = w.forces.gravity;
     const double drag = w.forces.air_drag;
     const bool read = !current_;
@@ -132,11 +136,13 @@ class GridXpbd final : public Solver {
     {
       // The state is read only where the arrays do not hold it already (see current_); the
       // wind's acceleration is new every frame.
-      if (read || wind) {
+      if (read || wind || area) {
 #pragma omp for schedule(static)
-        for (int32_t i = 0; i < n; ++i)
+        for (int32_t i = 0; i < n; ++i) {
           particles_.read(s, i, grid_.slot(i), wind ? Vec3(g + s.inv_mass[i] * scratch_[i]) : g,
                           read);
+          if (area) particles_.read_area(m, s, half_rho_c, i, grid_.slot(i));
+        }
       }
       for (int k = 0; k < substeps_; ++k) {
         if (k > 0 && w.stop) {

@@ -104,6 +104,27 @@ class Particles {
                 double(base.z[p]) + double(move.z[p]));
   }
 
+  /// Drag on the cloth's area (forces::apply_area_drag) from this frame on: particle i's normal
+  /// n_i and coefficient ½ρC·A_i/m_i (1/s per m/s of normal speed) into slot p, held over the
+  /// frame as the wind is. `area_drag(false)` turns it off (the seed's scenes).
+  void area_drag(bool on) {
+    area_ = on;
+    normal_.resize(on ? slots_ : 0);
+    area_k_.assign(on ? slots_ : 0, Real(0));
+  }
+  void read_area(const ClothModel& m, const ClothState& s, double half_rho_c, int32_t i,
+                 int32_t p) {
+    for (int d = 0; d < 3; ++d) normal_[d][p] = static_cast<Real>(s.normal[i][d]);
+    area_k_[p] = s.inv_mass[i] > 0.0 ? static_cast<Real>(half_rho_c * s.area[i] / m.mass[i]) : 0;
+  }
+
+  void predict(Real h, Real air_drag) {
+    if (area_)
+      predict<true>(h, air_drag);
+    else
+      predict<false>(h, air_drag);
+  }
+
   // The new base is b + m rounded, and the rounding (Knuth's two-sum, exact) starts the new
   // move, so no position is lost to round-off however small the step; then v += h·a,
   // semi-implicit drag, m += h·v. Pinned and held particles stay put. Shared out to the team.
@@ -111,7 +132,9 @@ class Particles {
   // velocity at the substep's end is (m − rounding)/h, so the velocity arrays, which nothing
   // reads during a substep, keep −rounding/h for velocities() to add. (Taken as m/h, a float
   // cloth's velocity gained up to an ulp of its position per substep: a float free fall fell
-  // 0.1% too fast.)
+  // 0.1% too fast.) With kArea, the area drag after the particle's own, on the normal part of
+  // the velocity: u_n ← u_n/(1 + h·k·|u_n|).
+  template <bool kArea>
   void predict(Real h, Real air_drag) {
     const int32_t n = slots_;
     Real *__restrict bx = base.x.data(), *__restrict by = base.y.data(),
@@ -122,6 +145,8 @@ class Particles {
     const Real *__restrict ax = accel.x.data(), *__restrict ay = accel.y.data(),
                            *__restrict az = accel.z.data();
     const Real* __restrict w = inv_mass.data();
+    const Real *__restrict nx = normal_.x.data(), *__restrict ny = normal_.y.data(),
+                           *__restrict nz = normal_.z.data(), *__restrict ak = area_k_.data();
     const Real inv_h = 1 / h;
     auto rebase = [](Real& b, Real& m) {
       const Real sum = b + m, m_part = sum - b;
@@ -137,12 +162,18 @@ class Particles {
       const Real free = w[i] > Real(0) ? Real(1) : Real(0), hf = h * free;
       const Real ux = vx[i] + hf * ax[i], uy = vy[i] + hf * ay[i], uz = vz[i] + hf * az[i];
       const Real f = forces::drag_factor(air_drag * w[i] * h, ux, uy, uz);
+      Real dx = f * ux, dy = f * uy, dz = f * uz;
+      if constexpr (kArea) {
+        const Real un = dx * nx[i] + dy * ny[i] + dz * nz[i];
+        const Real cut = un * (1 - 1 / (1 + h * ak[i] * std::abs(un)));
+        dx -= cut * nx[i], dy -= cut * ny[i], dz -= cut * nz[i];
+      }
       vx[i] = -mx[i] * inv_h;
       vy[i] = -my[i] * inv_h;
       vz[i] = -mz[i] * inv_h;
-      mx[i] += hf * (f * ux);
-      my[i] += hf * (f * uy);
-      mz[i] += hf * (f * uz);
+      mx[i] += hf * dx;
+      my[i] += hf * dy;
+      mz[i] += hf * dz;
     }
   }
 
@@ -337,7 +368,8 @@ class Particles {
 
   int64_t bytes() const {
     return heap_bytes(base.x, base.y, base.z, move.x, move.y, move.z, v.x, v.y, v.z, accel.x,
-                      accel.y, accel.z, inv_mass, pin_at_, tether_limit_, tether_pin_);
+                      accel.y, accel.z, inv_mass, pin_at_, tether_limit_, tether_pin_, normal_.x,
+                      normal_.y, normal_.z, area_k_);
   }
 
  private:
@@ -346,6 +378,9 @@ class Particles {
     Real base[3], move[3];
   };
   int32_t slots_ = 0;
+  bool area_ = false;
+  Soa<Real> normal_;            ///< per slot, with area drag: the frame's unit normal
+  AlignedVector<Real> area_k_;  ///< per slot, with area drag: ½ρC·A/m, 1/m
   std::vector<PinAt> pin_at_;
   int tethers_ = 0;
   bool uniform_ = false;

@@ -27,13 +27,20 @@ inline constexpr int kContactEvery = 3;
 /// spring reaches an effective stiffness of about min(k, m/h²), so the smallest count with
 /// m/h² ≥ k for every spring that `swept(spring)` says is swept spring by spring (not solved as
 /// a chain): below it, stiff and soft springs (stretch and bending) look alike and the cloth
-/// acts like rubber. Throws InputError past solver.max_substeps.
+/// acts like rubber. A material's bending element counts as a spring whose k·(1/m_i + 1/m_j)
+/// is its k·Σ_k w_k²/m_k (see xpbd_bend). Throws InputError past solver.max_substeps.
 template <class Swept>
 int automatic_substeps(const World& w, const SolverDef& def, Swept swept) {
+  const std::vector<double>& inv_mass = w.state.inv_mass;
   double kw = 0.0;
   for (const Spring& s : w.model.springs) {
     if (!swept(s)) continue;
-    kw = std::max(kw, s.stiffness * std::max(w.state.inv_mass[s.i], w.state.inv_mass[s.j]));
+    kw = std::max(kw, s.stiffness * std::max(inv_mass[s.i], inv_mass[s.j]));
+  }
+  for (const BendingElement& b : w.model.bending) {
+    double sum = 0.0;
+    for (int k = 0; k < 4; ++k) sum += b.w[k] * b.w[k] * inv_mass[b.v[k]];
+    kw = std::max(kw, 0.5 * b.stiffness * sum);
   }
   const double needed = std::ceil(def.dt * std::sqrt(kw));
   if (!(needed <= def.max_substeps)) {
