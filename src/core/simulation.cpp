@@ -322,8 +322,9 @@ int64_t estimated_memory(const SceneDef& def) {
       workspace = def.solver.line_passes > 0 ? 384 : 192;
       break;
     case Method::automatic:
-      workspace = 384 + 24;
-      break;  // xpbd's with line passes, its springs
+      // xpbd's with line passes and its springs; with a material, implicit's (its largest).
+      workspace = def.cloth.material ? 1024 : 384 + 24;
+      break;
     case Method::implicit:
       workspace = 1024;
       break;

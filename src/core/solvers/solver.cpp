@@ -19,10 +19,10 @@ std::unique_ptr<Solver> make_solver(const SolverDef& def, const ClothModel& mode
       return model.grid.present() && !model.material ? make_grid_xpbd(def.precision)
                                                      : make_mesh_xpbd(def.precision);
     case Method::fast: return make_fast();
-    // auto's ladder is xpbd's line passes and stiff sweeps, which solve the threads as
-    // inextensible chains: a material's threads buckle instead. It chooses fast for a material,
-    // whose prefactored matrix holds the quadratic bending exactly.
-    case Method::automatic: return model.material ? make_fast() : make_auto();
+    // auto's ladder holds the strain to solver.tolerance with xpbd's line passes, which solve
+    // the threads as inextensible chains; a material's threads stretch as the fabric does and
+    // buckle: a choice of its own (auto_solver.cpp).
+    case Method::automatic: return model.material ? make_material_auto() : make_auto();
   }
   return nullptr;
 }

@@ -102,6 +102,8 @@ std::unique_ptr<Solver> make_grid_xpbd(Precision precision);
 std::unique_ptr<Solver> make_mesh_xpbd(Precision precision);
 std::unique_ptr<Solver> make_fast();
 std::unique_ptr<Solver> make_auto();
+/// auto for a material's cloth: xpbd or implicit, by xpbd's automatic substeps.
+std::unique_ptr<Solver> make_material_auto();
 
 /// The largest explicit step h with h²ω² + 2hγ < 4, where ω² = max_i Σ_s 2k_s/m_i and
 /// γ = max_i Σ_s 2c_s/m_i over the springs s at each free particle i (Gershgorin bounds on the
