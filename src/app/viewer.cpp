@@ -502,7 +502,9 @@ void Viewer::draw_panel() {
         live = true;
       }
       live |= ImGui::SliderInt("stiff sweeps", &edit_.solver.stiff_sweeps, 0, 40);
-      live |= ImGui::SliderInt("line passes", &edit_.solver.line_passes, 0, 12);
+      // A material's threads buckle: the line passes' inextensible chains are refused.
+      if (!edit_.cloth.material)
+        live |= ImGui::SliderInt("line passes", &edit_.solver.line_passes, 0, 12);
       if (edit_.solver.line_passes > 1)
         live |= slider("line relaxation", edit_.solver.line_relaxation, 0.5, 1.9, "%.2f");
     }
