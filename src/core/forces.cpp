@@ -110,7 +110,7 @@ void apply_area_drag(const ClothModel& model, const ClothState& state, double ai
     const Vec3& nrm = state.normal[i];
     const double vn = v[i].dot(nrm);
     const double k = h * half_rho_c * state.area[i] / model.mass[i];
-    v[i] -= (vn * (1.0 - 1.0 / (1.0 + k * std::abs(vn)))) * nrm;
+    v[i] -= area_drag_cut(k, vn) * nrm;
   }
 }
 

@@ -103,6 +103,13 @@ inline Real drag_factor(Real k, Real ux, Real uy, Real uz) {
   return speed <= Real(1e-8) * std::numeric_limits<Real>::max() ? 1 / (1 + k * speed) : Real(1);
 }
 
+/// What the semi-implicit drag on the area (apply_area_drag) takes off a normal speed u_n:
+/// u_n − u_n/(1 + k·|u_n|), k = h·½ρC·A/m, in double or float.
+template <typename Real>
+inline Real area_drag_cut(Real k, Real un) {
+  return un * (1 - 1 / (1 + k * std::abs(un)));
+}
+
 /// The seed's quadratic drag dv = −(ρA/m)|v|v dt, taken semi-implicitly:
 /// v ← v / (1 + dt·(ρA/m)·|v|). Same terminal speed, stable for any dt. No-op where 1/m = 0.
 void apply_drag(double air_drag, const std::vector<double>& inv_mass, double dt,

@@ -259,7 +259,7 @@ class MaterialAuto final : public Solver {
       int needed = kMaterialXpbdSubsteps + 1;
       try {
         needed = xpbd::automatic_substeps(w, d, [](const Spring&) { return true; });
-      } catch (const InputError&) {
+      } catch (const InputError&) {  // more than solver.max_substeps: implicit
       }
       if (needed > kMaterialXpbdSubsteps) d.method = Method::implicit;
       inner_ = make_solver(d, w.model);

@@ -189,7 +189,8 @@ struct BendSet {
   bool last_shared = false;            ///< the last colour's elements may share corners
   AlignedVector<Real> lambda;          ///< 3 per element, with several iterations
 
-  void build(const ClothModel& m, bool iterations) {
+  /// With `multipliers`, room for λ (several iterations a substep).
+  void build(const ClothModel& m, bool multipliers) {
     v.clear(), w.clear(), inv_k.clear(), damping.clear();
     std::vector<int> colour;
     std::vector<uint64_t> used(m.size(), 0);  // per particle, the colours it is in
@@ -224,9 +225,8 @@ struct BendSet {
       inv_k[k] = static_cast<Real>(1.0 / b.stiffness);
       damping[k] = static_cast<Real>(b.damping);
     }
-    lambda.assign(iterations ? 3 * total : 0, Real(0));
+    lambda.assign(multipliers ? 3 * total : 0, Real(0));
   }
-  bool empty() const { return inv_k.empty(); }
   int64_t bytes() const { return heap_bytes(v, w, inv_k, damping, begin, lambda); }
 
   /// Colour by colour over the elements, `one(k)` shared out to the team (alone, in order, as

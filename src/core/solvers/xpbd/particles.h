@@ -165,7 +165,7 @@ class Particles {
       Real dx = f * ux, dy = f * uy, dz = f * uz;
       if constexpr (kArea) {
         const Real un = dx * nx[i] + dy * ny[i] + dz * nz[i];
-        const Real cut = un * (1 - 1 / (1 + h * ak[i] * std::abs(un)));
+        const Real cut = forces::area_drag_cut(h * ak[i], un);
         dx -= cut * nx[i], dy -= cut * ny[i], dz -= cut * nz[i];
       }
       vx[i] = -mx[i] * inv_h;
