@@ -19,6 +19,8 @@
 #include "brute_force_crossings.h"
 #include "collision/collider_set.h"
 #include "collision/motion.h"
+#include "collision/point_push.h"
+#include "collision/triangle_contact.h"
 #include "collision/triangle_shape.h"
 #include "drape/collider.h"
 #include "drape/error.h"
@@ -307,6 +309,49 @@ std::string error_of(const json& j, const std::string& folder = "") {
     return e.what();
   }
   return "";
+}
+
+// A triangle slicing 5 mm into a ball that moves at 1 m/s along +z, its three corners outside
+// the ball, coming at it with an inward and a sideways velocity relative to the surface: the
+// push puts its point nearest the centre on the surface, stops the point's inward velocity and
+// takes friction × that change off its slide (Coulomb), or all of the slide when friction is
+// large (the point then moves with the surface).
+TEST(TriangleContact, PushesATriangleOutOfAMovingBallAndHoldsItsSlideByFriction) {
+  Collider ball;
+  ball.radius = 0.1;
+  ball.bound_radius = 0.1;
+  ball.moving = true;
+  ball.move_time = 0.01;
+  ball.back_from = ball.center;
+  ball.back_to = ball.center - Vec3(0.0, 0.0, 0.01);  // it came 1 cm in the last 0.01 s
+  for (const double friction : {0.0, 0.5, 10.0}) {
+    ball.friction = friction;
+    ClothState state;
+    state.x = {Vec3(-0.2, -0.1, 0.095), Vec3(0.2, -0.1, 0.095), Vec3(0.0, 0.2, 0.095)};
+    state.v.assign(3, Vec3(0.5, 0.0, 0.8));  // relative to the surface: 0.5 aside, 0.2 inward
+    state.inv_mass = {1.0, 2.0, 1.0};
+    PointPush push;
+    ASSERT_TRUE(triangle_push(ball, state.x[0], state.x[1], state.x[2], push));
+    EXPECT_NEAR(push.depth, 0.005, 1e-12);
+    EXPECT_NEAR((push.n - Vec3::UnitZ()).norm(), 0.0, 1e-12);
+    for (int k = 0; k < 3; ++k) push.index[k] = k;
+    StateCloth cloth{state};
+    cloth.push(push, ball);
+    Vec3 point = Vec3::Zero(), v = Vec3::Zero();
+    for (int k = 0; k < 3; ++k) {
+      point += push.w[k] * state.x[k];
+      v += push.w[k] * state.v[k];
+    }
+    EXPECT_NEAR(point.norm(), ball.radius, 1e-12) << "friction " << friction;
+    const Vec3 rel = v - Vec3(0.0, 0.0, 1.0);
+    EXPECT_NEAR(rel.z(), 0.0, 1e-12) << "friction " << friction;
+    EXPECT_NEAR(rel.x(), std::max(0.5 - friction * 0.2, 0.0), 1e-12) << "friction " << friction;
+    EXPECT_NEAR(rel.y(), 0.0, 1e-12);
+  }
+  // A triangle wholly outside the ball is left alone.
+  PointPush push;
+  EXPECT_FALSE(triangle_push(ball, Vec3(-0.2, -0.1, 0.11), Vec3(0.2, -0.1, 0.11),
+                             Vec3(0.0, 0.2, 0.11), push));
 }
 
 TEST(ColliderKeys, BadInputIsRefusedNamingTheKey) {

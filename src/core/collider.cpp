@@ -150,24 +150,12 @@ void resolve_contacts(const std::vector<Collider>& colliders, const ClothModel& 
     for (int32_t i = 0; i < n; ++i)
       if (state.inv_mass[i] != 0.0) resolve_contact(c, state.x[i], state.v[i]);
     if (!holds_triangles_out(c)) continue;
+    StateCloth cloth{state};
     for (const Triangle& t : model.triangles) {
-      TrianglePush push;
-      if (!triangle_push(c, state.x[t[0]], state.x[t[1]], state.x[t[2]], state.inv_mass[t[0]],
-                         state.inv_mass[t[1]], state.inv_mass[t[2]], push))
-        continue;
-      // The point's inward velocity relative to the surface is removed the same way.
-      Vec3 point = Vec3::Zero(), v = Vec3::Zero();
-      double sum = 0.0;
-      for (int k = 0; k < 3; ++k) {
-        state.x[t[k]] += push.d[k];
-        point += push.w[k] * state.x[t[k]];
-        v += push.w[k] * state.v[t[k]];
-        sum += push.w[k] * push.w[k] * state.inv_mass[t[k]];
-      }
-      const double vn = (v - c.surface_velocity(point)).dot(push.n);
-      if (vn >= 0.0) continue;
-      for (int k = 0; k < 3; ++k)
-        state.v[t[k]] += (push.w[k] * state.inv_mass[t[k]] * -vn / sum) * push.n;
+      PointPush push;
+      if (!triangle_push(c, state.x[t[0]], state.x[t[1]], state.x[t[2]], push)) continue;
+      for (int k = 0; k < 3; ++k) push.index[k] = t[k];
+      cloth.push(push, c);
     }
   }
 }

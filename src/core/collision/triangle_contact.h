@@ -6,7 +6,8 @@
 // ahead of it instead. Spheres and capsules that move: their size is comparable to a cloth's
 // cells and they move fast. A still body's cloth rests on it with cells a fraction of its size,
 // which dip into it less than the thickness; a box's and a mesh's edges and corners are
-// another matter, not handled here.
+// feature_contacts.h's. Each push is a point push (point_push.h), so friction holds the cloth
+// there as it does at the particles.
 #pragma once
 
 #include <algorithm>
@@ -14,6 +15,7 @@
 #include <vector>
 
 #include "collision/closest_points.h"
+#include "collision/point_push.h"
 #include "drape/collider.h"
 
 namespace drape {
@@ -28,22 +30,13 @@ inline bool any_holds_triangles_out(const std::vector<Collider>& colliders) {
   return std::any_of(colliders.begin(), colliders.end(), holds_triangles_out);
 }
 
-/// How to move the corners of a triangle whose point nearest a sphere or capsule (inside the
-/// face or on an edge) lies inside it: d[k] moves that point out to the surface along the
-/// normal n there, shared between the corners by their inverse
-/// masses and the point's barycentric weights w (the position-based rule for a constraint on
-/// Σ w[k]·x[k]).
-struct TrianglePush {
-  Vec3 d[3];
-  Vec3 n = Vec3::UnitY();
-  double w[3] = {1.0, 0.0, 0.0};
-};
-
-/// The push for triangle x0 x1 x2 (inverse masses m0..m2) against collider c (sphere or
-/// capsule), or false where the triangle lies outside the body, where its nearest point is a
-/// corner (the particle contacts hold those) or where all three corners are fixed.
+/// The push for triangle x0 x1 x2 against collider c (sphere or capsule): its point nearest the
+/// body (inside the face or on an edge) out to the surface, along the normal there. Fills out's
+/// count, weights, normal and depth (the caller names the corners), or returns false where the
+/// triangle lies outside the body or its nearest point is a corner (the particle contacts hold
+/// those).
 inline bool triangle_push(const Collider& c, const Vec3& x0, const Vec3& x1, const Vec3& x2,
-                          double m0, double m1, double m2, TrianglePush& out) {
+                          PointPush& out) {
   // A quick rejection: the triangle's centroid farther from the body's bounding sphere than
   // the triangle's own reach and the thickness.
   const Vec3 g = (x0 + x1 + x2) / 3.0;
@@ -76,15 +69,10 @@ inline bool triangle_push(const Collider& c, const Vec3& x0, const Vec3& x1, con
   // the friction that holds it.
   const double depth = c.radius - distance;
   if (!(depth > 0.0) || !(distance > 0.0)) return false;
-  const double w[3] = {tp.wa, tp.wb, tp.wc}, m[3] = {m0, m1, m2};
-  double sum = 0.0;
-  for (int k = 0; k < 3; ++k) sum += w[k] * w[k] * m[k];
-  if (!(sum > 0.0)) return false;
+  out.count = 3;
+  out.w[0] = tp.wa, out.w[1] = tp.wb, out.w[2] = tp.wc;
   out.n = d / distance;
-  for (int k = 0; k < 3; ++k) {
-    out.w[k] = w[k];
-    out.d[k] = (w[k] * m[k] * depth / sum) * out.n;
-  }
+  out.depth = depth;
   return true;
 }
 

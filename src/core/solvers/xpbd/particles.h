@@ -296,19 +296,15 @@ class Particles {
   // bodies are few and small.
   void triangle_contacts(const std::vector<Collider>& colliders,
                          const std::vector<Triangle>& triangles) {
+    const auto same = [](int32_t c) { return c; };
+    SlotCloth<decltype(same)> cloth{*this, same};
     for (const Collider& col : colliders) {
       if (!holds_triangles_out(col)) continue;
       for (const Triangle& t : triangles) {
-        TrianglePush push;
-        if (!triangle_push(col, position(t[0]), position(t[1]), position(t[2]),
-                           double(inv_mass[t[0]]), double(inv_mass[t[1]]),
-                           double(inv_mass[t[2]]), push))
-          continue;
-        for (int k = 0; k < 3; ++k) {
-          move.x[t[k]] += static_cast<Real>(push.d[k].x());
-          move.y[t[k]] += static_cast<Real>(push.d[k].y());
-          move.z[t[k]] += static_cast<Real>(push.d[k].z());
-        }
+        PointPush push;
+        if (!triangle_push(col, position(t[0]), position(t[1]), position(t[2]), push)) continue;
+        for (int k = 0; k < 3; ++k) push.index[k] = t[k];
+        cloth.push(push, col);
       }
     }
   }
@@ -318,36 +314,7 @@ class Particles {
   template <typename Slot>
   void feature_contacts(const FeatureContacts& features, const std::vector<Collider>& colliders,
                         Slot slot) {
-    struct Cloth {
-      Particles& p;
-      Slot& slot;
-      Vec3 position(int32_t i) const { return p.position(slot(i)); }
-      // The push, then friction on positions as the particle contacts have it: the point's
-      // slide over the surface this substep is cancelled within friction·depth, else
-      // shortened by it.
-      void push(const PointPush& push, const Collider& col) {
-        Vec3 moves[3];
-        double sum = 0.0;
-        auto inv_mass = [&](int32_t i) { return double(p.inv_mass[slot(i)]); };
-        if (!push_moves(push, inv_mass, moves, sum)) return;
-        Vec3 point = Vec3::Zero(), slide = Vec3::Zero();
-        for (int k = 0; k < push.count; ++k) {
-          const int32_t c = slot(push.index[k]);
-          add(c, moves[k]);
-          point += push.w[k] * p.position(c);
-          slide += push.w[k] * Vec3(p.move.x[c], p.move.y[c], p.move.z[c]);
-        }
-        const Vec3 held =
-            friction_change(slide - col.surface_move(point), push.n, col.friction, push.depth);
-        for (int k = 0; k < push.count; ++k)
-          add(slot(push.index[k]), (-push.w[k] * inv_mass(push.index[k]) / sum) * held);
-      }
-      void add(int32_t c, const Vec3& d) {
-        p.move.x[c] += static_cast<Real>(d.x());
-        p.move.y[c] += static_cast<Real>(d.y());
-        p.move.z[c] += static_cast<Real>(d.z());
-      }
-    } cloth{*this, slot};
+    SlotCloth<Slot> cloth{*this, slot};
     features.apply(colliders, cloth);
   }
 
@@ -373,6 +340,40 @@ class Particles {
   }
 
  private:
+  // The particles as a cloth that point pushes move (collision/point_push.h), `slot` mapping a
+  // particle's index in a push to its slot.
+  template <typename Slot>
+  struct SlotCloth {
+    Particles& p;
+    const Slot& slot;
+    Vec3 position(int32_t i) const { return p.position(slot(i)); }
+    // The push, then friction on positions as the particle contacts have it: the point's
+    // slide over the surface this substep is cancelled within friction·depth, else
+    // shortened by it.
+    void push(const PointPush& push, const Collider& col) {
+      Vec3 moves[3];
+      double sum = 0.0;
+      auto inv_mass = [&](int32_t i) { return double(p.inv_mass[slot(i)]); };
+      if (!push_moves(push, inv_mass, moves, sum)) return;
+      Vec3 point = Vec3::Zero(), slide = Vec3::Zero();
+      for (int k = 0; k < push.count; ++k) {
+        const int32_t c = slot(push.index[k]);
+        add(c, moves[k]);
+        point += push.w[k] * p.position(c);
+        slide += push.w[k] * Vec3(p.move.x[c], p.move.y[c], p.move.z[c]);
+      }
+      const Vec3 held =
+          friction_change(slide - col.surface_move(point), push.n, col.friction, push.depth);
+      for (int k = 0; k < push.count; ++k)
+        add(slot(push.index[k]), (-push.w[k] * inv_mass(push.index[k]) / sum) * held);
+    }
+    void add(int32_t c, const Vec3& d) {
+      p.move.x[c] += static_cast<Real>(d.x());
+      p.move.y[c] += static_cast<Real>(d.y());
+      p.move.z[c] += static_cast<Real>(d.z());
+    }
+  };
+
   // A pin's position split as the frame's start split it.
   struct PinAt {
     Real base[3], move[3];
