@@ -213,11 +213,6 @@ void check(const SceneDef& def) {
   check_springs(c.bending, "cloth.springs.bending");
   range(c.perturbation, 0.0, 1.0, "cloth.perturbation");
   range(c.long_range.slack, 0.0, 10.0, "cloth.long_range.slack");
-  for (size_t k = 0; k < c.pins.size(); ++k)
-    require(!c.long_range.enabled || !c.pins[k].motion.moves(), "cloth.long_range",
-            "does not follow moving pins yet (cloth.pins[" + std::to_string(k) +
-                "] has a motion): its attachments would hold the cloth to where the pins were; "
-                "turn one of them off");
   nonnegative(c.self_collision.thickness, "cloth.self_collision.thickness");
   nonnegative(c.self_collision.friction, "cloth.self_collision.friction");
   if (c.material) {
