@@ -43,6 +43,7 @@ uint32_t BoxGrid::coordinate(double v, int axis) const {
 }
 
 void BoxGrid::build(const std::vector<Box>& boxes, const std::vector<int32_t>& kept) {
+  boxes_ = &boxes;
   entry_.clear();
   box_bits_ = std::max(1, static_cast<int>(std::bit_width(boxes.size())));
   box_mask_ = (uint64_t{1} << box_bits_) - 1;

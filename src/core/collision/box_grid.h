@@ -30,8 +30,23 @@ class BoxGrid {
 
   /// Enters boxes[i] for every i in `kept` (boxes with finite corners); the others are never
   /// reported. Keeps its arrays for the next build, so a grid rebuilt every frame allocates only
-  /// while it grows.
+  /// while it grows. `boxes` must stay as they are while the grid is read.
   void build(const std::vector<Box>& boxes, const std::vector<int32_t>& kept);
+
+  /// Calls f(s, t) for every pair of boxes that overlap and that cell c reports (each
+  /// overlapping pair in one cell only), s entered before t in the cell (s < t).
+  template <class F>
+  void each_pair_in(int64_t c, F&& f) const {
+    pairs(c, cell_begin_[c], cell_begin_[c + 1], cell_begin_[c + 1], f, true);
+  }
+  /// The same for the pairs of a box below `split` with one at or above it.
+  template <class F>
+  void each_pair_across(int64_t c, int32_t split, F&& f) const {
+    const int64_t begin = cell_begin_[c], end = cell_begin_[c + 1];
+    int64_t middle = begin;
+    while (middle < end && entry(middle) < split) ++middle;
+    pairs(c, begin, middle, end, f, false);
+  }
 
   int64_t bytes() const {
     return static_cast<int64_t>(cell_lo_.capacity() * sizeof(Cell) * 2 +
@@ -53,6 +68,23 @@ class BoxGrid {
   }
 
  private:
+  /// f(s, t) for the entries u in [begin, middle) and w in [middle, end) of cell c, or w after
+  /// u when `within`, whose boxes overlap and which c reports. Everything the loops read is
+  /// held in locals: f writes memory, after which members would be read again.
+  template <class F>
+  void pairs(int64_t c, int64_t begin, int64_t middle, int64_t end, F& f, bool within) const {
+    const Box* box = boxes_->data();
+    const uint64_t* entries = entry_.data();
+    const uint64_t mask = box_mask_;
+    for (int64_t u = begin; u < middle; ++u) {
+      const int32_t s = static_cast<int32_t>(entries[u] & mask);
+      const Box a = box[s];
+      for (int64_t w = within ? u + 1 : middle; w < end; ++w) {
+        const int32_t t = static_cast<int32_t>(entries[w] & mask);
+        if (overlap(a, box[t]) && reports_pair_in(c, s, t)) f(s, t);
+      }
+    }
+  }
   uint32_t coordinate(double v, int axis) const;
   Cell coordinates(const Vec3& p) const {
     return {coordinate(p.x(), 0), coordinate(p.y(), 1), coordinate(p.z(), 2)};
@@ -71,6 +103,7 @@ class BoxGrid {
   std::vector<uint64_t> entry_;    ///< cell key << box_bits_ | box, sorted
   std::vector<uint64_t> sorting_;  ///< radix sort's second buffer
   std::vector<int64_t> cell_begin_;
+  const std::vector<Box>* boxes_ = nullptr;  ///< as given to the last build
 };
 
 }  // namespace drape

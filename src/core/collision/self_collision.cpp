@@ -190,33 +190,17 @@ void SelfCollision::find_contacts(const ClothModel& model, const std::vector<Vec
     // Vertex–triangle pairs cell by cell, each in the one cell the grid reports it in.
     const int64_t face_cells = face_grid_.cells();
 #pragma omp for schedule(dynamic, 64) nowait
-    for (int64_t cell = 0; cell < face_cells; ++cell) {
-      const int64_t begin = face_grid_.cell_begin(cell), end = face_grid_.cell_begin(cell + 1);
-      for (int64_t u = begin; u < end && face_grid_.entry(u) < triangle_count; ++u) {
-        const int32_t t = face_grid_.entry(u);
-        for (int64_t w = end - 1; w > u && face_grid_.entry(w) >= triangle_count; --w) {
-          const int32_t p = face_grid_.entry(w);
-          if (!overlap(face_boxes_[t], face_boxes_[p]) || !face_grid_.reports_pair_in(cell, t, p))
-            continue;
-          if (vertex_triangle(p - triangle_count, t)) mine.push_back({p - triangle_count, t, 0});
-        }
-      }
-    }
+    for (int64_t cell = 0; cell < face_cells; ++cell)
+      face_grid_.each_pair_across(cell, triangle_count, [&](int32_t t, int32_t p) {
+        if (vertex_triangle(p - triangle_count, t)) mine.push_back({p - triangle_count, t, 0});
+      });
     // Edge pairs cell by cell, each pair in the one cell the grid reports it in.
     const int64_t cells = edge_grid_.cells();
 #pragma omp for schedule(dynamic, 64) nowait
-    for (int64_t cell = 0; cell < cells; ++cell) {
-      const int64_t end = edge_grid_.cell_begin(cell + 1);
-      for (int64_t u = edge_grid_.cell_begin(cell); u < end; ++u) {
-        const int32_t e = edge_grid_.entry(u);
-        for (int64_t w = u + 1; w < end; ++w) {
-          const int32_t f = edge_grid_.entry(w);
-          if (!overlap(edge_boxes_[e], edge_boxes_[f]) || !edge_grid_.reports_pair_in(cell, e, f))
-            continue;
-          if (edge_edge(e, f)) mine.push_back({std::min(e, f), std::max(e, f), 1});
-        }
-      }
-    }
+    for (int64_t cell = 0; cell < cells; ++cell)
+      edge_grid_.each_pair_in(cell, [&](int32_t e, int32_t f) {
+        if (edge_edge(e, f)) mine.push_back({e, f, 1});
+      });
 #pragma omp critical
     contacts_.insert(contacts_.end(), mine.begin(), mine.end());
   }

@@ -105,24 +105,16 @@ void CrossingFinder::find(const std::vector<Triangle>& triangles,
   {
     std::vector<TrianglePair> mine;
 #pragma omp for schedule(static) nowait
-    for (int64_t cell = 0; cell < cells; ++cell) {
-      for (int64_t e = grid_.cell_begin(cell); e < grid_.cell_begin(cell + 1); ++e) {
-        const int32_t s = grid_.entry(e);
-        for (int64_t f = e + 1; f < grid_.cell_begin(cell + 1); ++f) {
-          const int32_t t = grid_.entry(f);
-          if (!overlap(boxes_[s], boxes_[t]) || share_a_vertex(triangles[s], triangles[t]) ||
-              !grid_.reports_pair_in(cell, s, t))
-            continue;
-          const Vec3 corners_s[3] = {positions[triangles[s][0]], positions[triangles[s][1]],
-                                     positions[triangles[s][2]]};
-          const Vec3 corners_t[3] = {positions[triangles[t][0]], positions[triangles[t][1]],
-                                     positions[triangles[t][2]]};
-          if (apart(corners_s, corners_t) || apart(corners_t, corners_s)) continue;
-          if (triangles_cross(corners_s, corners_t))
-            mine.push_back({std::min(s, t), std::max(s, t)});
-        }
-      }
-    }
+    for (int64_t cell = 0; cell < cells; ++cell)
+      grid_.each_pair_in(cell, [&](int32_t s, int32_t t) {
+        if (share_a_vertex(triangles[s], triangles[t])) return;
+        const Vec3 corners_s[3] = {positions[triangles[s][0]], positions[triangles[s][1]],
+                                   positions[triangles[s][2]]};
+        const Vec3 corners_t[3] = {positions[triangles[t][0]], positions[triangles[t][1]],
+                                   positions[triangles[t][2]]};
+        if (apart(corners_s, corners_t) || apart(corners_t, corners_s)) return;
+        if (triangles_cross(corners_s, corners_t)) mine.push_back({s, t});
+      });
 #pragma omp critical
     out.insert(out.end(), mine.begin(), mine.end());
   }
