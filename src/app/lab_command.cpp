@@ -207,7 +207,7 @@ int cusick(const LabOptions& o) {
   const auto t0 = std::chrono::steady_clock::now();
   SceneDef def;
   std::string label, picture;
-  const int rings = o.resolution > 0 ? o.resolution : 24;
+  const int rings = o.resolution > 0 ? o.resolution : lab::kCusickRings;
   try {
     const MaterialDef m = read_material_option(o.material, label);
     def = lab_scene(lab::cusick_scene(io::material_json(m)), o, "lab cusick");
@@ -306,7 +306,7 @@ int cusick(const LabOptions& o) {
   return kExitOk;
 }
 
-void add_common(CLI::App* cmd, LabOptions& o, const char* resolution_help) {
+void add_common(CLI::App* cmd, LabOptions& o, const std::string& resolution_help) {
   cmd->add_option("--material", o.material,
                   "A preset's name (denim, knit, polyester, cotton-polyester) or a JSON file "
                   "holding a material as cloth.material does")
@@ -338,7 +338,9 @@ std::function<int()> add_lab_command(CLI::App& app) {
       "cusick",
       "The Cusick drape test (ISO 9073-9): a 30 cm disc on an 18 cm pedestal; the drape "
       "coefficient, the folds and a top view");
-  add_common(cus, *o, "Rings of the disc's mesh across its radius (default 24)");
+  add_common(cus, *o,
+             "Rings of the disc's mesh across its radius (default " +
+                 std::to_string(lab::kCusickRings) + ")");
   cus->add_option("--seconds", o->seconds, "Drape at most this long before measuring (s)")
       ->check(finite_range(0.1, 600.0))
       ->capture_default_str();
