@@ -253,9 +253,9 @@ class MaterialAuto final : public Solver {
  public:
   void prepare(const World& w, const SolverDef& def) override {
     SolverDef d = def;
+    d.precision = Precision::f64;
     if (!inner_) {
       d.method = Method::xpbd;
-      d.precision = Precision::f64;
       int needed = kMaterialXpbdSubsteps + 1;
       try {
         needed = xpbd::automatic_substeps(w, d, [](const Spring&) { return true; });
@@ -264,10 +264,9 @@ class MaterialAuto final : public Solver {
       if (needed > kMaterialXpbdSubsteps) d.method = Method::implicit;
       inner_ = make_solver(d, w.model);
       choice_.method = d.method;
-      choice_.precision = Precision::f64;
+      choice_.precision = d.precision;
     }
     d.method = choice_.method;
-    d.precision = Precision::f64;
     inner_->prepare(w, d);
     choice_.substeps = inner_->substeps();
   }

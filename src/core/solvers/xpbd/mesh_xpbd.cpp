@@ -55,6 +55,40 @@ constexpr int kMinChain = 3;
 // straight lines (a grid's rows, columns and diagonals); a fourth takes what bends.
 constexpr int kMaxLayers = 4;
 
+/// Calls one(k) for every k in [begin[c], begin[c + 1]), colour c by colour, inside a parallel
+/// region: a colour whose items share no particle (`independent(c)`) shared out to the team
+/// (with kSimd, as SIMD lanes too), any other by one thread. A thread alone runs them in order
+/// without OpenMP's worksharing, whose every construct costs a few microseconds here (a small
+/// cloth at many substeps spent 60% of its time in them).
+template <bool kSimd, class Independent, class One>
+void each_by_colour(const std::vector<int32_t>& begin, Independent independent, One one) {
+  const int colours = static_cast<int>(begin.size()) - 1;
+  if (team_size() == 1) {
+    for (int c = 0; c < colours; ++c) {
+      if (kSimd && independent(c)) {
+#pragma omp simd
+        for (int32_t k = begin[c]; k < begin[c + 1]; ++k) one(k);
+      } else {
+        for (int32_t k = begin[c]; k < begin[c + 1]; ++k) one(k);
+      }
+    }
+    return;
+  }
+  for (int c = 0; c < colours; ++c) {
+    const int32_t b = begin[c], e = begin[c + 1];
+    if (!independent(c)) {
+#pragma omp single
+      for (int32_t k = b; k < e; ++k) one(k);
+    } else if (kSimd) {
+#pragma omp for simd schedule(static)
+      for (int32_t k = b; k < e; ++k) one(k);
+    } else {
+#pragma omp for schedule(static)
+      for (int32_t k = b; k < e; ++k) one(k);
+    }
+  }
+}
+
 /// Springs to sweep spring by spring, in the model's colours: a colour's springs share no
 /// particle, except in a colour the model could not make independent, swept by one thread.
 template <typename Real>
@@ -103,32 +137,11 @@ struct SweepSet {
                       lambda);
   }
 
-  /// Colour by colour over the springs, `one(k)` shared out to the team. A thread alone runs
-  /// them without OpenMP's worksharing, whose every construct costs a few microseconds here
-  /// (a small cloth at many substeps spent 60% of its time in them).
+  /// Colour by colour over the springs (see drape::xpbd::each_by_colour).
   template <class One>
   void each_by_colour(One one) {
-    if (team_size() == 1) {
-      for (size_t c = 0; c + 1 < begin.size(); ++c) {
-        if (independent[c]) {
-#pragma omp simd
-          for (int32_t k = begin[c]; k < begin[c + 1]; ++k) one(k);
-        } else {
-          for (int32_t k = begin[c]; k < begin[c + 1]; ++k) one(k);
-        }
-      }
-      return;
-    }
-    for (size_t c = 0; c + 1 < begin.size(); ++c) {
-      const int32_t b = begin[c], e = begin[c + 1];
-      if (independent[c]) {
-#pragma omp for simd schedule(static)
-        for (int32_t k = b; k < e; ++k) one(k);
-      } else {
-#pragma omp single
-        for (int32_t k = b; k < e; ++k) one(k);
-      }
-    }
+    xpbd::each_by_colour<true>(
+        begin, [&](int c) { return independent[c] != 0; }, one);
   }
 
   /// The velocity damping (damp_spring) after a substep of h, when `damping` is set.
@@ -229,25 +242,13 @@ struct BendSet {
   }
   int64_t bytes() const { return heap_bytes(v, w, inv_k, damping, begin, lambda); }
 
-  /// Colour by colour over the elements, `one(k)` shared out to the team (alone, in order, as
-  /// SweepSet's).
+  /// Colour by colour over the elements (see drape::xpbd::each_by_colour): all but a shared
+  /// last colour are independent.
   template <class One>
   void each_by_colour(One one) {
-    if (team_size() == 1) {
-      for (int32_t k = 0; k < begin.back(); ++k) one(k);
-      return;
-    }
     const int colours = static_cast<int>(begin.size()) - 1;
-    for (int c = 0; c < colours; ++c) {
-      const int32_t b = begin[c], e = begin[c + 1];
-      if (c + 1 < colours || !last_shared) {
-#pragma omp for schedule(static)
-        for (int32_t k = b; k < e; ++k) one(k);
-      } else {
-#pragma omp single
-        for (int32_t k = b; k < e; ++k) one(k);
-      }
-    }
+    xpbd::each_by_colour<false>(
+        begin, [&](int c) { return c + 1 < colours || !last_shared; }, one);
   }
 
   /// The velocity damping (damp_bend) after a substep of h.
