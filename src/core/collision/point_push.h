@@ -45,7 +45,8 @@ inline Vec3 friction_change(const Vec3& slip, const Vec3& n, double friction, do
   return length <= bound ? tangential : Vec3(tangential * (bound / length));
 }
 
-/// The cloth's state as FeatureContacts::apply wants it, for the methods that keep it there:
+/// The cloth's state as a target of point pushes (FeatureContacts::apply, the triangle contacts
+/// in resolve_contacts), for the methods that keep it there:
 /// a push moves the particles, removes the point's velocity into the surface (relative to the
 /// surface's own) and, with Coulomb friction, its sliding by up to friction × that change.
 struct StateCloth {
