@@ -662,6 +662,37 @@ ColliderDef box_as_mesh(const ColliderDef& box) {
   return mesh;
 }
 
+// How many (segment, cloth triangle) pairs cross (the tests' own segment–triangle test).
+int64_t segments_through_cloth(const std::vector<std::pair<Vec3, Vec3>>& segments,
+                               const Simulation& sim) {
+  const std::vector<Vec3>& x = sim.state().x;
+  int64_t crossings = 0;
+  for (const auto& [a, b] : segments)
+    for (const Triangle& t : sim.model().triangles)
+      crossings += testing_support::crosses(a, b, x[t[0]], x[t[1]], x[t[2]]);
+  return crossings;
+}
+
+// A coarse 0.6 m cloth of 0.1 kg (5 cm cells) held flat at height y under gravity and a little
+// drag: a 12 × 12 grid, or as_mesh an irregular mesh (the mesh solvers' contact paths).
+SceneDef coarse_cloth_at(double y, bool as_mesh, const testing_support::Variant& variant) {
+  SceneDef def = testing_support::with(bare(), variant);
+  def.forces.gravity = Vec3(0.0, -9.81, 0.0);
+  def.forces.air_drag = 0.01;
+  if (as_mesh) {
+    def.cloth.mesh = std::make_shared<const ClothMesh>(shapes::jittered_grid(0.6, 13));
+    def.cloth.cols = def.cloth.rows = ClothDef{}.cols;  // the grid's keys at their defaults
+    def.cloth.transform.translate = Vec3(0.0, y, 0.0);
+  } else {
+    def.cloth.cols = def.cloth.rows = 12;
+    def.cloth.width = def.cloth.height = 0.6;
+    def.cloth.orientation = Orientation::horizontal;
+    def.cloth.origin = Vec3(-0.3, y, -0.3);
+  }
+  def.cloth.mass = 0.1;
+  return def;
+}
+
 // A coarse cloth (5 cm cells) dropped over a small box standing on an edge-up or corner-up
 // pose, as a box under a grid and as a closed mesh under an irregular mesh: the box's edges and
 // corners meet the cloth between its particles, and no edge of the box may pass through a cloth
@@ -670,20 +701,7 @@ ColliderDef box_as_mesh(const ColliderDef& box) {
 TEST_P(EveryMethod, ABoxsEdgesAndCornersNeverPierceTheCloth) {
   for (const Vec3& rotate : {Vec3(0.0, 45.0, 0.0), Vec3(45.0, 0.0, 35.26)})
     for (const bool as_mesh : {false, true}) {
-      SceneDef def = testing_support::with(bare(), GetParam());
-      def.forces.gravity = Vec3(0.0, -9.81, 0.0);
-      def.forces.air_drag = 0.01;
-      if (as_mesh) {  // and the cloth as an irregular mesh: the mesh solvers' contact paths
-        def.cloth.mesh = std::make_shared<const ClothMesh>(shapes::jittered_grid(0.6, 13));
-        def.cloth.cols = def.cloth.rows = ClothDef{}.cols;  // the grid's keys at their defaults
-        def.cloth.transform.translate = Vec3(0.0, 0.35, 0.0);
-      } else {
-        def.cloth.cols = def.cloth.rows = 12;
-        def.cloth.width = def.cloth.height = 0.6;
-        def.cloth.orientation = Orientation::horizontal;
-        def.cloth.origin = Vec3(-0.3, 0.35, -0.3);
-      }
-      def.cloth.mass = 0.1;
+      SceneDef def = coarse_cloth_at(0.35, as_mesh, GetParam());
       ColliderDef box;
       box.type = ColliderType::box;
       box.center = Vec3(0.01, 0.0, 0.02);
@@ -696,21 +714,56 @@ TEST_P(EveryMethod, ABoxsEdgesAndCornersNeverPierceTheCloth) {
       ground.center = Vec3(0.0, -0.1, 0.0);
       def.colliders = {as_mesh ? box_as_mesh(box) : box, ground};
       const auto c = box_corners(box);
+      std::vector<std::pair<Vec3, Vec3>> edges;
+      for (int k = 0; k < 8; ++k)
+        for (int bit : {1, 2, 4})
+          if (!(k & bit)) edges.emplace_back(c[k], c[k | bit]);
       Simulation sim(def);
       for (int f = 0; f < 90; ++f) {
         ASSERT_TRUE(sim.step()) << sim.divergence();
-        const std::vector<Vec3>& x = sim.state().x;
-        int64_t crossings = 0;
-        for (int k = 0; k < 8; ++k)
-          for (int bit : {1, 2, 4})
-            if (!(k & bit))
-              for (const Triangle& t : sim.model().triangles)
-                crossings += testing_support::crosses(c[k], c[k | bit], x[t[0]], x[t[1]], x[t[2]]);
+        const int64_t crossings = segments_through_cloth(edges, sim);
         ASSERT_EQ(crossings, 0) << "a box edge passes through the cloth at frame " << f
                                 << ", box rotated " << rotate.transpose()
                                 << (as_mesh ? ", as a mesh" : "");
       }
     }
+}
+
+// A coarse cloth (5 cm cells) dropped onto a small open sheet (a table top as two triangles,
+// turned so its rim crosses the cloth's cells at a slant, and tilted so the cloth slides over
+// its lower rim): the rim is a blade, and no rim edge may pass through a cloth triangle at any
+// frame's end. Without the rim's features every method let the rim cut through the cloth at
+// frame 4.
+TEST_P(EveryMethod, AnOpenSheetsRimNeverCutsThroughTheCloth) {
+  if (GetParam().method == Method::implicit || GetParam().method == Method::fast)
+    GTEST_SKIP() << "NOT reached with implicit and fast (one step a frame): a cloth triangle "
+                    "draped round the sheet's corner is cut by it at frame 57 (implicit) and 85 "
+                    "(fast) of 90 (README, Colliders)";
+  for (const bool as_mesh : {false, true}) {
+    SceneDef def = coarse_cloth_at(0.05, as_mesh, GetParam());
+    const Mat3 turn = rotation_xyz(Vec3(10.0, 30.0, 0.0));
+    ClothMesh top;
+    for (const Vec3& corner : {Vec3(-0.15, 0.0, -0.15), Vec3(0.15, 0.0, -0.15),
+                               Vec3(0.15, 0.0, 0.15), Vec3(-0.15, 0.0, 0.15)})
+      top.positions.push_back(turn * corner);
+    top.triangles = {{0, 2, 1}, {0, 3, 2}};
+    const std::vector<Vec3> rim = top.positions;
+    ColliderDef sheet;
+    sheet.type = ColliderType::mesh;
+    sheet.mesh = std::make_shared<const ClothMesh>(top);
+    sheet.friction = 0.2;
+    sheet.thickness = 0.005;
+    def.colliders = {sheet};
+    std::vector<std::pair<Vec3, Vec3>> edges;
+    for (int k = 0; k < 4; ++k) edges.emplace_back(rim[k], rim[(k + 1) % 4]);
+    Simulation sim(def);
+    for (int f = 0; f < 90; ++f) {
+      ASSERT_TRUE(sim.step()) << sim.divergence();
+      const int64_t crossings = segments_through_cloth(edges, sim);
+      ASSERT_EQ(crossings, 0) << "the sheet's rim cuts through the cloth at frame " << f
+                              << (as_mesh ? ", cloth as a mesh" : "");
+    }
+  }
 }
 
 // A patch resting on a ball that the hand carries sideways (the viewer's Shift-drag) goes

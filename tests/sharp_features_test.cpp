@@ -1,8 +1,10 @@
-// Sharp features of colliders (a box's and a closed mesh's convex edges and corners) and the
-// pushes that keep the cloth's edges and triangles out of them, against closed forms.
+// Sharp features of colliders (a box's and a mesh's convex edges and corners, an open mesh's
+// rim) and the pushes that keep the cloth's edges and triangles out of them, against closed forms.
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <tuple>
+#include <utility>
 
 #include "collision/feature_contacts.h"
 #include "collision/motion.h"
@@ -83,11 +85,81 @@ TEST(SharpFeatures, ASmoothMeshHasNoneAndACoarseOneHasThem) {
   for (const SharpFeatures::Corner& c : f.corners) EXPECT_TRUE(c.n.isApprox(c.p, 1e-12));
 }
 
+// An open sheet is two-sided: its rim is a blade all round (each rim edge's faces are the two
+// sides of its one triangle, and it points out across the rim in the sheet's plane), a
+// square's four corners are corners, and its flat inside has no features. Folded into a tent,
+// the ridge is an edge on the side it points out to, however its triangles are wound.
+TEST(SharpFeatures, AnOpenSheetHasBladesAllRoundAndItsRidgesOnTheirOutside) {
+  // A unit square in the x–z plane as 2 × 2 cells; `ridge` lifts its middle line x = 0.5.
+  auto sheet = [](double ridge, bool mixed_winding) {
+    std::vector<Vec3> v;
+    for (int j = 0; j < 3; ++j)
+      for (int i = 0; i < 3; ++i) v.push_back(Vec3(0.5 * i, i == 1 ? ridge : 0.0, 0.5 * j));
+    std::vector<Triangle> t;
+    for (int j = 0; j < 2; ++j)
+      for (int i = 0; i < 2; ++i) {
+        const int32_t a = 3 * j + i, b = a + 1, c = a + 4, d = a + 3;
+        t.push_back({a, c, b});
+        t.push_back(mixed_winding && i == 1 ? Triangle{a, c, d} : Triangle{a, d, c});
+      }
+    return TriangleShape(v, t);
+  };
+  const Vec3 middle(0.5, 0.0, 0.5);
+  for (const bool mixed : {false, true}) {
+    const SharpFeatures flat = sharp_features(sheet(0.0, mixed), kSharpAngle);
+    ASSERT_EQ(flat.edges.size(), 8u);
+    for (const SharpFeatures::Edge& e : flat.edges) {
+      EXPECT_NEAR(std::abs(e.n1.y()), 1.0, 1e-12);
+      EXPECT_TRUE(e.n2.isApprox(-e.n1, 1e-12));
+      // Across the rim, away from the sheet: along the axis the rim's middle lies out on.
+      const Vec3 rim = 0.5 * (e.a + e.b) - middle;
+      const Vec3 expected =
+          std::abs(rim.x()) > std::abs(rim.z()) ? Vec3(rim.x(), 0.0, 0.0) : Vec3(0.0, 0.0, rim.z());
+      EXPECT_TRUE(e.out.isApprox(expected.normalized(), 1e-12));
+    }
+    ASSERT_EQ(flat.corners.size(), 4u);
+    for (const SharpFeatures::Corner& c : flat.corners) {
+      EXPECT_TRUE(c.n.isApprox((c.p - middle).normalized(), 1e-12));
+      // A rim's: its two rim edges run from it along the axes, into the sheet.
+      EXPECT_TRUE(c.rim);
+      EXPECT_EQ(c.count, 0);
+      for (const Vec3& u : c.along) {
+        EXPECT_NEAR(u.y(), 0.0, 1e-12);
+        EXPECT_NEAR(u.cwiseAbs().maxCoeff(), 1.0, 1e-12);
+        EXPECT_LT(u.dot(c.p - middle), 0.0);
+      }
+    }
+
+    // The tent: ridge 0.5 m up, its slopes at 45°. Its two ridge edges point up.
+    const SharpFeatures tent = sharp_features(sheet(0.5, mixed), kSharpAngle);
+    int ridges = 0;
+    for (const SharpFeatures::Edge& e : tent.edges) {
+      if (e.n2.isApprox(-e.n1, 1e-12)) continue;  // a blade
+      ++ridges;
+      EXPECT_NEAR(e.a.x(), 0.5, 1e-12);
+      EXPECT_NEAR(e.n1.y(), std::sqrt(0.5), 1e-12);
+      EXPECT_NEAR(e.n2.y(), std::sqrt(0.5), 1e-12);
+      EXPECT_TRUE(e.out.isApprox(Vec3::UnitY(), 1e-12));
+    }
+    EXPECT_EQ(ridges, 2);
+    // The square's corners still, and the ridge's middle vertex (its faces turn by 45° from
+    // its normal, up); the ridge's ends on the rim are not (the sheet spans 180° there).
+    ASSERT_EQ(tent.corners.size(), 5u);
+    int up = 0;
+    for (const SharpFeatures::Corner& c : tent.corners)
+      if (c.n.isApprox(Vec3::UnitY(), 1e-12)) {
+        ++up;
+        EXPECT_TRUE(c.p.isApprox(Vec3(0.5, 0.5, 0.5)));
+      }
+    EXPECT_EQ(up, 1);
+  }
+}
+
 // A cloth edge lying across a right-angled edge (along z, faces +x and +y) and passing inside
 // it: its point nearest the edge, halfway, is pushed out along the diagonal to the gap.
 TEST(FeaturePush, AClothEdgeAcrossABoxEdgeIsPushedOutToTheGap) {
   const SharpFeatures::Edge e{Vec3(0.0, 0.0, -1.0), Vec3(0.0, 0.0, 1.0), Vec3::UnitX(),
-                              Vec3::UnitY()};
+                              Vec3::UnitY(), Vec3(1.0, 1.0, 0.0).normalized()};
   const Vec3 p(-0.1, 0.01, 0.2), q(0.01, -0.1, 0.2);
   double s = 0.0, depth = 0.0;
   Vec3 n;
@@ -105,6 +177,31 @@ TEST(FeaturePush, AClothEdgeAcrossABoxEdgeIsPushedOutToTheGap) {
   EXPECT_FALSE(edge_edge_push(e, Vec3(-0.1, 0.01, 0.0), Vec3(-0.2, 0.01, 0.1), 0.005, s, n, depth));
   EXPECT_FALSE(edge_edge_push(e, p + Vec3(0, 0, 1.5), q + Vec3(0, 0, 1.5), 0.005, s, n, depth));
   EXPECT_FALSE(edge_edge_push(e, Vec3(-0.1, -0.01, 0.2), q, 0.005, s, n, depth));
+}
+
+// A blade: an open sheet's rim along z, the sheet on x < 0 in the plane y = 0. A cloth edge
+// through the plane beyond the rim is kept the gap from it; one through the sheet near the
+// rim (come round it) is pushed out past the rim along the sheet; one wholly on a side has
+// nothing to do with it.
+TEST(FeaturePush, AClothEdgeAcrossABladeIsKeptBeyondItsRim) {
+  const SharpFeatures::Edge e{Vec3(0.0, 0.0, -1.0), Vec3(0.0, 0.0, 1.0), Vec3::UnitY(),
+                              -Vec3::UnitY(), Vec3::UnitX()};
+  auto across = [](double x) { return std::pair{Vec3(x, 0.1, 0.3), Vec3(x, -0.1, 0.3)}; };
+  double s = 0.0, depth = 0.0;
+  Vec3 n;
+  auto [p, q] = across(0.003);
+  ASSERT_TRUE(edge_edge_push(e, p, q, 0.005, s, n, depth));
+  EXPECT_NEAR(s, 0.5, 1e-12);
+  EXPECT_TRUE(n.isApprox(Vec3::UnitX(), 1e-12));
+  EXPECT_NEAR(depth, 0.002, 1e-12);
+  std::tie(p, q) = across(-0.02);
+  ASSERT_TRUE(edge_edge_push(e, p, q, 0.005, s, n, depth));
+  EXPECT_TRUE(n.isApprox(Vec3::UnitX(), 1e-12));
+  EXPECT_NEAR(depth, 0.025, 1e-12);
+  std::tie(p, q) = across(0.01);
+  EXPECT_FALSE(edge_edge_push(e, p, q, 0.005, s, n, depth));
+  EXPECT_FALSE(
+      edge_edge_push(e, Vec3(-0.02, 0.1, 0.3), Vec3(0.02, 0.001, 0.3), 0.005, s, n, depth));
 }
 
 // A triangle through a box's corner (faces +x, +y, +z) is pushed out along its own normal to

@@ -60,12 +60,8 @@ Collider make_collider(const ColliderDef& def) {
       c.bound_center = 0.5 * (shape->lo() + shape->hi());
       for (const Vec3& v : shape->vertices())
         c.bound_radius = std::max(c.bound_radius, (v - c.bound_center).norm());
-      // An open mesh is two-sided and has no outward edges.
-      if (shape->closed()) {
-        auto features = std::make_shared<SharpFeatures>(
-            sharp_features(*shape, kSharpAngle));
-        if (!features->empty()) c.features = std::move(features);
-      }
+      auto features = std::make_shared<SharpFeatures>(sharp_features(*shape, kSharpAngle));
+      if (!features->empty()) c.features = std::move(features);
       c.mesh = std::move(shape);
       break;
     }

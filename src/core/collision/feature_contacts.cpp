@@ -10,8 +10,111 @@ namespace {
 // A cloth triangle nearly edge-on to a corner's direction has no clear side to be pushed to;
 // the edge pairs hold it.
 constexpr double kEdgeOn = 0.2;
+// How far outside a triangle (in barycentric terms) a rim's corner still counts as under it:
+// a cloth folded sharply over the corner has it under neither triangle of the fold, and the
+// fold's edge, which passes it, cannot tell the side it must pass on.
+constexpr double kRimMargin = 0.1;
 // The most cells a grid has: a grid over widely spread features takes wider cells.
 constexpr int64_t kMaxGridCells = int64_t{1} << 18;
+
+// A blade (an open mesh's rim): the cloth edge p–q crossing its plane, t the place along the
+// blade of its point nearest the edge, d from there to the edge's nearest point.
+//  - Beside the blade (0 < t < 1), an edge with one end over the sheet passes the rim on that
+//    end's side, `gap` clear of it: where it passes on the other side (it cuts into the sheet
+//    before the rim) it is moved back round the rim, across the line between the two, the
+//    short way for an edge lying nearly along the sheet. An edge with neither end over the
+//    sheet keeps `gap` from the rim; one with its ends over it on its two sides passes
+//    through the face, not the rim.
+//  - At an end of the blade where the rim turns a corner (next_out), an edge that meets the
+//    sheet's plane inside the corner (behind both rim edges, nearer the corner than the edge
+//    is long) cuts across it: pushed out along the corner's bisector until it meets the plane
+//    `gap` beyond the corner. Elsewhere it keeps `gap` from the corner.
+bool blade_push(const SharpFeatures::Edge& e, const Vec3& p, const Vec3& q, double t, const Vec3& d,
+                double gap, Vec3& n, double& depth) {
+  const double distance = d.norm();
+  if (t <= 0.0 || t >= 1.0) {
+    const Vec3& corner = t <= 0.0 ? e.a : e.b;
+    const Vec3& next = e.next_out[t <= 0.0 ? 0 : 1];
+    const double hp = e.n1.dot(p - corner), hq = e.n1.dot(q - corner);
+    const Vec3 meets = p + (hp / (hp - hq)) * (q - p);  // (the ends lie on the plane's two sides)
+    const Vec3 in = meets - corner;
+    if (next.squaredNorm() > 0.0 && e.out.dot(in) < 0.0 && next.dot(in) < 0.0 &&
+        in.squaredNorm() < (q - p).squaredNorm()) {
+      n = (e.out + next).normalized();
+      depth = gap - n.dot(in);
+      return true;
+    }
+  } else {
+    const Vec3 ab = e.b - e.a;
+    // An end within `gap` of the rim may have come round it (particle contacts keep it off the
+    // rim, not on its side): it is not over the sheet until it is farther in.
+    auto over = [&](const Vec3& end) {
+      const double along = (end - e.a).dot(ab);
+      return e.out.dot(end - e.a) < -gap && along >= 0.0 && along <= ab.squaredNorm();
+    };
+    const bool p_over = over(p), q_over = over(q);
+    if (p_over && q_over) return false;
+    const Vec3& over_end = p_over ? p : q;
+    const double side = p_over || q_over ? (e.n1.dot(over_end - e.a) > 0.0 ? 1.0 : -1.0) : 0.0;
+    if (side * e.n1.dot(d) < 0.0) {
+      n = -d / distance;
+      depth = gap + distance;
+      return true;
+    }
+    if (distance == 0.0 && side != 0.0) {
+      n = side * e.n1;
+      depth = gap;
+      return true;
+    }
+  }
+  if (!(distance > 0.0 && distance < gap)) return false;
+  n = d / distance;
+  depth = gap - distance;
+  return true;
+}
+
+// A rim's corner under the triangle x[0..2] (unit normal n by its winding, the corner's
+// projection inside it; `side` as corner_triangle_push's). Neither the sheet nor the triangle
+// has an inside, but the sheet's corner is a wedge between the rim's two edges, and the
+// triangle is kept `gap` beyond the corner (n turned to that side) on the side that clears it:
+//  - that of its corners over the sheet (in the wedge): passing the corner on the other side,
+//    it would cut into the sheet between them (corners over it on both sides: through the
+//    face, not the corner's);
+//  - else the side both rim edges turn away from its plane;
+//  - else (the edges leave it to different sides, or lie nearly in its plane) the side it
+//    started the frame on, where that was decided.
+// A triangle wholly above or below the sheet cannot meet the corner.
+bool rim_corner_push(const SharpFeatures::Corner& c, const Vec3* const x[3], Vec3& n, int side,
+                     double gap, double& depth) {
+  const Vec3 sheet = c.along[0].cross(c.along[1]).normalized();
+  const Vec3 in0 = sheet.cross(c.along[0]), in1 = c.along[1].cross(sheet);  // into the wedge
+  bool above = true, below = true;
+  double over_side = 0.0;
+  for (int k = 0; k < 3; ++k) {
+    const Vec3 o = *x[k] - c.p;
+    const double height = sheet.dot(o);
+    above = above && height > 0.0;
+    below = below && height < 0.0;
+    if (!(in0.dot(o) > 0.0 && in1.dot(o) > 0.0)) continue;
+    const double s = height > 0.0 ? 1.0 : -1.0;
+    if (over_side == -s) return false;
+    over_side = s;
+  }
+  if (above || below) return false;
+  const double s1 = n.dot(c.along[0]), s2 = n.dot(c.along[1]);
+  if (over_side != 0.0) {
+    const double facing = over_side * n.dot(sheet);
+    if (std::abs(facing) < kEdgeOn) return false;
+    side = facing > 0.0 ? 1 : -1;
+  } else if (s1 * s2 >= 0.0 && std::max(std::abs(s1), std::abs(s2)) >= kEdgeOn) {
+    side = s1 + s2 < 0.0 ? 1 : -1;
+  } else if (side == 0) {
+    return false;
+  }
+  n *= side;
+  depth = gap - n.dot(*x[0] - c.p);
+  return depth > 0.0;
+}
 
 }  // namespace
 
@@ -26,18 +129,18 @@ bool edge_edge_push(const SharpFeatures::Edge& e, const Vec3& p, const Vec3& q, 
   const SegmentPoints sp = closest_between_segments(p, q, e.a, e.b);
   s = sp.s;
   const Vec3 point = p + s * (q - p), ab = e.b - e.a;
+  if (e.blade) return blade_push(e, p, q, sp.t, point - (e.a + sp.t * ab), gap, n, depth);
   const double along = (point - e.a).dot(ab) / ab.squaredNorm();
   if (!(along >= 0.0 && along <= 1.0)) return false;  // past the edge's ends: the corners'
   const Vec3 d = point - (e.a + along * ab);
-  const Vec3 out = (e.n1 + e.n2).normalized();
-  const double clearance = d.dot(out);
+  const double clearance = d.dot(e.out);
   if (clearance > 0.0) {
     const double distance = d.norm();
     if (distance >= gap) return false;
     n = d / distance;
     depth = gap - distance;
   } else {  // passing inside the edge
-    n = out;
+    n = e.out;
     depth = gap - clearance;
   }
   return depth > 0.0;
@@ -59,8 +162,9 @@ bool corner_triangle_push(const SharpFeatures::Corner& c, const Vec3* faces, con
                           const Vec3& x1, const Vec3& x2, double gap, int side, double w[3],
                           Vec3& n, double& depth) {
   const Vec3* x[3] = {&x0, &x1, &x2};
-  // As for edges: not wholly beyond one face, and every corner of the triangle outside.
-  bool outside[3] = {false, false, false};
+  // As for edges: not wholly beyond one face, and every corner of the triangle outside (a
+  // rim's corner has no inside: rim_corner_push).
+  bool outside[3] = {c.rim, c.rim, c.rim};
   for (int f = 0; f < c.count; ++f) {
     bool beyond = true;
     for (int k = 0; k < 3; ++k) {
@@ -71,19 +175,20 @@ bool corner_triangle_push(const SharpFeatures::Corner& c, const Vec3* faces, con
     if (beyond) return false;
   }
   if (!(outside[0] && outside[1] && outside[2])) return false;
-  const TrianglePoint tp = over_face(c.p, x0, x1, x2, 0.0);
+  const TrianglePoint tp = over_face(c.p, x0, x1, x2, c.rim ? kRimMargin : 0.0);
   if (!tp.interior) return false;
   const Vec3 normal = (x1 - x0).cross(x2 - x0);
   const double area2 = normal.norm();
   if (!(area2 > 0.0)) return false;
   n = normal / area2;
+  w[0] = tp.wa, w[1] = tp.wb, w[2] = tp.wc;
+  if (c.rim) return rim_corner_push(c, x, n, side, gap, depth);
   if (side == 0) {
     const double facing = n.dot(c.n);
     if (std::abs(facing) < kEdgeOn) return false;
     side = facing < 0.0 ? -1 : 1;
   }
   n *= side;
-  w[0] = tp.wa, w[1] = tp.wb, w[2] = tp.wc;
   const double height = n.dot(x0 - c.p);  // of the triangle's plane above the corner
   depth = gap - height;
   return depth > 0.0;
