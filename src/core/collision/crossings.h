@@ -10,6 +10,12 @@
 
 namespace drape {
 
+/// Whether segment pq passes through the inside of triangle abc (p and q strictly on opposite
+/// sides of its plane, the line strictly inside its three edges; touching is not crossing),
+/// by certified orientation tests: a yes or no it gives is never wrong by rounding.
+bool segment_crosses_triangle(const Vec3& p, const Vec3& q, const Vec3& a, const Vec3& b,
+                              const Vec3& c);
+
 /// Two triangles by index, s < t.
 struct TrianglePair {
   int32_t s, t;

@@ -278,6 +278,7 @@ void FeatureContacts::gather(const std::vector<Collider>& colliders,
   allowed_ = boost_ * (2.0 * std::sqrt(fastest) * dt + gravity.norm() * dt * dt);
   std::copy(state.x.begin(), state.x.end(), start_.begin());
   pairs_ = 0;
+  sheet_pairs_.clear();
   for (Group& g : groups_) {
     g.edge_pairs.clear();
     g.corner_pairs.clear();
@@ -289,8 +290,21 @@ void FeatureContacts::gather(const std::vector<Collider>& colliders,
     hide(colliders, k, g);
     const Mat3 back = c.pose.rotation.transpose();
     for (size_t i = 0; i < start_.size(); ++i) local_[i] = back * (start_[i] - c.pose.translation);
-    gather(g, c.thickness + allowed_ + travel[k], c.thickness);
+    const double margin = c.thickness + allowed_ + travel[k];
+    gather(g, margin, c.thickness);
     pairs_ += int64_t(g.edge_pairs.size() + g.corner_pairs.size());
+    if (c.mesh && !c.mesh->closed()) {
+      const size_t before = sheet_pairs_.size();
+      for (int32_t i = 0; i < int32_t(start_.size()); ++i) {
+        if (state.inv_mass[i] == 0.0 ||
+            (start_[i] - c.bound_center).norm() > c.bound_radius + margin)
+          continue;
+        Vec3 n;
+        if (c.mesh->signed_distance(local_[i], n) < margin)
+          sheet_pairs_.push_back({c.mesh.get(), i, local_[i]});
+      }
+      pairs_ += int64_t(sheet_pairs_.size() - before);
+    }
   }
 }
 
@@ -352,7 +366,7 @@ void FeatureContacts::check(const std::vector<Vec3>& x) {
 }
 
 int64_t FeatureContacts::bytes() const {
-  int64_t total = heap_bytes(edges_, triangles_, groups_, start_, local_);
+  int64_t total = heap_bytes(edges_, triangles_, groups_, sheet_pairs_, start_, local_);
   for (const Group& g : groups_) {
     total += heap_bytes(g.edge_pairs, g.corner_pairs, g.lo, g.hi, g.seen, g.hidden, g.edge_grid.begin,
                         g.edge_grid.entries, g.corner_grid.begin, g.corner_grid.entries);

@@ -12,6 +12,12 @@
 // particles by their weights there and inverse masses, as the triangle contacts of round
 // bodies are (triangle_contact.h).
 //
+// An open (two-sided) mesh is thin: a particle can pass through it within one step, further
+// than its thickness, and particle contacts then hold it out on the far side. The particles
+// within the margin (below) of it at the frame's start keep the side they started on: one
+// whose path since (in the body's frame) passes through a triangle is put back to the
+// thickness on that side, as a push of its own, before the features' pushes.
+//
 // Which pairs can meet is found once per frame (gather): the cloth's edges and triangles whose
 // boxes at the frame's start, widened by a margin for what the frame can move them, overlap a
 // feature's. The margin is twice the distance the fastest particle covers in the frame at its
@@ -28,6 +34,7 @@
 #include "collision/closest_points.h"
 #include "collision/point_push.h"
 #include "collision/sharp_features.h"
+#include "collision/triangle_shape.h"
 #include "drape/cloth.h"
 #include "drape/collider.h"
 
@@ -81,6 +88,12 @@ class FeatureContacts {
     int32_t corner, triangle;
     int side;
   };
+  // An open mesh, a particle near it at the frame's start and where it was (mesh's frame).
+  struct SheetPair {
+    const TriangleShape* mesh;
+    int32_t particle;
+    Vec3 start;
+  };
   // A uniform grid over some features' boxes (definition frame), as lists of their indices
   // per cell over the box around them all.
   struct Grid {
@@ -118,6 +131,7 @@ class FeatureContacts {
   std::vector<std::array<int32_t, 2>> edges_;
   std::vector<Triangle> triangles_;
   std::vector<Group> groups_;
+  std::vector<SheetPair> sheet_pairs_;
   std::vector<Vec3> start_, local_;
   double mean_edge_ = 0.0;
   double allowed_ = 0.0;  ///< m, the motion this frame's margin allowed for
@@ -128,6 +142,23 @@ class FeatureContacts {
 template <class Cloth>
 void FeatureContacts::apply(const std::vector<Collider>& colliders, Cloth& cloth) const {
   if (pairs_ == 0) return;
+  for (const Collider& c : colliders) {
+    if (!c.mesh || c.mesh->closed() || sheet_pairs_.empty()) continue;
+    const Mat3& R = c.pose.rotation;
+    PointPush push;
+    push.count = 1;
+    for (const SheetPair& pair : sheet_pairs_) {
+      if (pair.mesh != c.mesh.get()) continue;
+      const int32_t i = pair.particle;
+      const Vec3 now = R.transpose() * (cloth.position(i) - c.pose.translation);
+      if (!c.mesh->crossed_by(pair.start, now)) continue;
+      Vec3 n;
+      push.depth = c.mesh->signed_distance(now, n) + c.thickness;
+      push.index[0] = i;
+      push.n = -(R * n);
+      cloth.push(push, c);
+    }
+  }
   for (const Collider& c : colliders) {
     const Group* g = c.features ? find(c.features.get()) : nullptr;
     if (!g) continue;

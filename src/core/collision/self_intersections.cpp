@@ -42,18 +42,6 @@ int orientation(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
   return determinant > bound ? 1 : determinant < -bound ? -1 : 0;
 }
 
-// Segment pq passes through the inside of triangle abc: p and q strictly on opposite sides of
-// its plane, and the line pq strictly inside all three of its edges (the three orientations
-// of pq with the edges agree). Any zero means touching, which is not crossing.
-bool segment_crosses_triangle(const Vec3& p, const Vec3& q, const Vec3& a, const Vec3& b,
-                              const Vec3& c) {
-  const int side_p = orientation(a, b, c, p), side_q = orientation(a, b, c, q);
-  if (side_p == 0 || side_q == 0 || side_p == side_q) return false;
-  const int ab = orientation(p, q, a, b);
-  if (ab == 0) return false;
-  return orientation(p, q, b, c) == ab && orientation(p, q, c, a) == ab;
-}
-
 // Two triangles cross when an edge of either passes through the other: the segment where two
 // crossing triangles meet ends on such edges.
 bool triangles_cross(const Vec3* s, const Vec3* t) {
@@ -81,6 +69,16 @@ bool apart(const Vec3* s, const Vec3* t) {
 }
 
 }  // namespace
+
+// The three orientations of pq with the triangle's edges agree; any zero means touching.
+bool segment_crosses_triangle(const Vec3& p, const Vec3& q, const Vec3& a, const Vec3& b,
+                              const Vec3& c) {
+  const int side_p = orientation(a, b, c, p), side_q = orientation(a, b, c, q);
+  if (side_p == 0 || side_q == 0 || side_p == side_q) return false;
+  const int ab = orientation(p, q, a, b);
+  if (ab == 0) return false;
+  return orientation(p, q, b, c) == ab && orientation(p, q, c, a) == ab;
+}
 
 void CrossingFinder::find(const std::vector<Triangle>& triangles,
                           const std::vector<Vec3>& positions, std::vector<TrianglePair>& out) {

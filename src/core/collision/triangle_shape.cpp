@@ -7,6 +7,7 @@
 #include <unordered_map>
 
 #include "collision/closest_points.h"
+#include "collision/crossings.h"
 #include "drape/cloth.h"
 
 namespace drape {
@@ -165,6 +166,29 @@ void TriangleShape::closest(const Vec3& p, double& best2, int32_t& tri, Vec3& po
       stack[top++] = right;
     }
   }
+}
+
+bool TriangleShape::crossed_by(const Vec3& a, const Vec3& b) const {
+  const Vec3 lo = a.cwiseMin(b), hi = a.cwiseMax(b);
+  int32_t stack[64];
+  int top = 0;
+  if (!nodes_.empty()) stack[top++] = 0;
+  while (top > 0) {
+    const Node& node = nodes_[stack[--top]];
+    if ((node.hi.array() < lo.array()).any() || (hi.array() < node.lo.array()).any()) continue;
+    if (node.count > 0) {
+      for (int32_t k = node.first; k < node.first + node.count; ++k) {
+        const Triangle& t = triangles_[order_[k]];
+        if (segment_crosses_triangle(a, b, vertices_[t[0]], vertices_[t[1]], vertices_[t[2]]))
+          return true;
+      }
+      continue;
+    }
+    if (top + 2 > 64) continue;  // deeper than any balanced tree of 2^60 leaves
+    stack[top++] = int32_t(&node - nodes_.data()) + 1;
+    stack[top++] = node.first;
+  }
+  return false;
 }
 
 Vec3 TriangleShape::pseudo_normal(int32_t tri, int feature) const {

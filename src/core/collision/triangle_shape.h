@@ -25,6 +25,9 @@ class TriangleShape {
   /// pseudo-normal; on an open mesh, the side p is on).
   double signed_distance(const Vec3& p, Vec3& normal) const;
 
+  /// Whether segment a–b passes through a triangle (segment_crosses_triangle).
+  bool crossed_by(const Vec3& a, const Vec3& b) const;
+
   bool closed() const { return closed_; }
   const std::vector<Vec3>& vertices() const { return vertices_; }
   const std::vector<Triangle>& triangles() const { return triangles_; }
