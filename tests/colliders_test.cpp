@@ -662,6 +662,22 @@ ColliderDef box_as_mesh(const ColliderDef& box) {
   return mesh;
 }
 
+// An open mesh collider 5 mm thick: the square of half side `half` in the x–z plane as two
+// triangles, turned by `turn` about the origin.
+ColliderDef square_sheet(double half, const Mat3& turn, double friction) {
+  ClothMesh top;
+  for (const Vec3& corner : {Vec3(-half, 0.0, -half), Vec3(half, 0.0, -half), Vec3(half, 0.0, half),
+                             Vec3(-half, 0.0, half)})
+    top.positions.push_back(turn * corner);
+  top.triangles = {{0, 2, 1}, {0, 3, 2}};
+  ColliderDef sheet;
+  sheet.type = ColliderType::mesh;
+  sheet.mesh = std::make_shared<const ClothMesh>(top);
+  sheet.friction = friction;
+  sheet.thickness = 0.005;
+  return sheet;
+}
+
 // How many (segment, cloth triangle) pairs cross (the tests' own segment–triangle test).
 int64_t segments_through_cloth(const std::vector<std::pair<Vec3, Vec3>>& segments,
                                const Simulation& sim) {
@@ -742,17 +758,8 @@ TEST_P(EveryMethod, AnOpenSheetsRimNeverCutsThroughTheCloth) {
   for (const bool as_mesh : {false, true}) {
     SceneDef def = coarse_cloth_at(0.05, as_mesh, GetParam());
     const Mat3 turn = rotation_xyz(Vec3(10.0, 30.0, 0.0));
-    ClothMesh top;
-    for (const Vec3& corner : {Vec3(-0.15, 0.0, -0.15), Vec3(0.15, 0.0, -0.15),
-                               Vec3(0.15, 0.0, 0.15), Vec3(-0.15, 0.0, 0.15)})
-      top.positions.push_back(turn * corner);
-    top.triangles = {{0, 2, 1}, {0, 3, 2}};
-    const std::vector<Vec3> rim = top.positions;
-    ColliderDef sheet;
-    sheet.type = ColliderType::mesh;
-    sheet.mesh = std::make_shared<const ClothMesh>(top);
-    sheet.friction = 0.2;
-    sheet.thickness = 0.005;
+    const ColliderDef sheet = square_sheet(0.15, turn, 0.2);
+    const std::vector<Vec3>& rim = sheet.mesh->positions;
     def.colliders = {sheet};
     std::vector<std::pair<Vec3, Vec3>> edges;
     for (int k = 0; k < 4; ++k) edges.emplace_back(rim[k], rim[(k + 1) % 4]);
@@ -772,15 +779,8 @@ TEST_P(EveryMethod, AnOpenSheetsRimNeverCutsThroughTheCloth) {
 // (a step a frame) went through at frame 36.
 TEST_P(EveryMethod, AClothDroppedOnAThinSheetStaysOnIt) {
   SceneDef def = coarse_cloth_at(0.5, false, GetParam());
-  ClothMesh top;
-  top.positions = {Vec3(-0.5, 0.0, -0.5), Vec3(0.5, 0.0, -0.5), Vec3(0.5, 0.0, 0.5),
-                   Vec3(-0.5, 0.0, 0.5)};
-  top.triangles = {{0, 2, 1}, {0, 3, 2}};
-  ColliderDef sheet;
-  sheet.type = ColliderType::mesh;
-  sheet.mesh = std::make_shared<const ClothMesh>(top);
-  sheet.friction = 0.3;
-  sheet.thickness = 0.005;
+  const ColliderDef sheet = square_sheet(0.5, Mat3::Identity(), 0.3);
+  const ClothMesh& top = *sheet.mesh;
   def.colliders = {sheet};
   Simulation sim(def);
   for (int f = 0; f < 60; ++f) {
