@@ -183,8 +183,10 @@ void FeatureContacts::apply(const std::vector<Collider>& colliders, Cloth& cloth
     for (const CornerPair& pair : g->corner_pairs) {
       const SharpFeatures::Corner& corner = f.corners[pair.corner];
       const Triangle& tri = triangles_[pair.triangle];
-      if (!corner_triangle_push(corner, &f.face_normals[corner.first], local(tri[0]), local(tri[1]),
-                                local(tri[2]), c.thickness, pair.side, push.w, push.n, push.depth))
+      // (data(): a sheet's rim corners have no face normals, and the list may be empty.)
+      if (!corner_triangle_push(corner, f.face_normals.data() + corner.first, local(tri[0]),
+                                local(tri[1]), local(tri[2]), c.thickness, pair.side, push.w,
+                                push.n, push.depth))
         continue;
       push.count = 3;
       for (int k = 0; k < 3; ++k) push.index[k] = tri[k];
