@@ -11,7 +11,7 @@ cd "$(dirname "$0")/.."
 packages=(
   build-essential cmake ninja-build pkg-config git
   libeigen3-dev nlohmann-json3-dev libcli11-dev libtinyobjloader-dev libstb-dev
-  libgtest-dev libgmock-dev libbenchmark-dev clang libclang-rt-dev
+  libgtest-dev libgmock-dev libbenchmark-dev clang libclang-rt-dev libomp-dev
   libglfw3-dev libepoxy-dev libglm-dev libimgui-dev
   libegl-dev libegl1 libgl1-mesa-dri libegl-mesa0 libgles-dev xvfb xauth
   python3 python3-dev pybind11-dev python3-numpy python3-pytest

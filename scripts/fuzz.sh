@@ -1,23 +1,21 @@
 #!/usr/bin/env bash
-# Builds the libFuzzer targets with clang (ASan + UBSan) and runs each for SECONDS (default 60),
-# seeded with the shipped scenes and fuzz/corpus. Fails on any crash, hang, leak or report;
-# the input that caused it is left in build-fuzz/ (make it a regression test).
+# Builds the libFuzzer targets (scripts/sanitized_build.sh: clang, ASan + UBSan) and runs each
+# for SECONDS (default 60), seeded with the shipped scenes and fuzz/corpus. Fails on any crash,
+# hang, leak or report; the input that caused it is left in build-asan/ (make it a regression
+# test). One OpenMP thread: libFuzzer runs one input at a time.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 seconds=${1:-60}
-cmake -S . -B build-fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=clang++ \
-  -DDRAPE_FUZZ=ON -DDRAPE_OPENMP=OFF -DDRAPE_BUILD_TESTS=OFF -DDRAPE_BUILD_BENCH=OFF \
-  -DDRAPE_PYTHON=OFF >/dev/null
-cmake --build build-fuzz --parallel "$(nproc)" --target scene_fuzz override_fuzz
+bash scripts/sanitized_build.sh scene_fuzz override_fuzz
 for target in scene_fuzz override_fuzz; do
-  work=build-fuzz/corpus-$target
+  work=build-asan/corpus-$target
   mkdir -p "$work"
   seeds=fuzz/corpus/override
   [ $target = scene_fuzz ] && seeds=scenes
-  log=build-fuzz/$target.log
+  log=build-asan/$target.log
   rc=0
-  build-fuzz/fuzz/$target "$work" "$seeds" -max_total_time="$seconds" -timeout=10 \
-    -rss_limit_mb=2048 -print_final_stats=1 -artifact_prefix="build-fuzz/$target-" >"$log" 2>&1 ||
+  OMP_NUM_THREADS=1 build-asan/fuzz/$target "$work" "$seeds" -max_total_time="$seconds" -timeout=10 \
+    -rss_limit_mb=2048 -print_final_stats=1 -artifact_prefix="build-asan/$target-" >"$log" 2>&1 ||
     rc=$?
   runs=$(grep -oP '^stat::number_of_executed_units: *\K[0-9]+' "$log" || echo "?")
   echo "fuzz: $target: $runs inputs in $seconds s, exit $rc"

@@ -334,7 +334,8 @@ class GridXpbd final : public Solver {
   // Both colours of family f in a substep of h; with λ (several iterations) accumulated in
   // `lambda`, from zero when `first`.
   void sweep_colours(const Family& f, Real h, Real* lambda, bool first) {
-    const auto [alpha_tilde, gamma] = compliance(f, h);
+    const Compliance<Real> compliance_h = compliance(f, h);
+    const Real alpha_tilde = compliance_h.alpha_tilde, gamma = compliance_h.gamma;
     for (int colour = 0; colour < 2; ++colour) {
       if (lambda == nullptr)
         sweep_family<false>(f, colour, alpha_tilde, gamma, nullptr, true);
@@ -519,7 +520,8 @@ class GridXpbd final : public Solver {
                      *__restrict twist_fe = twist_fe_.data(),
                      *__restrict twist_fg = twist_fg_.data();
     const Real* __restrict w = particles_.inv_mass.data();
-    const auto [alpha_tilde, gamma] = compliance(f, h);
+    const Compliance<Real> compliance_h = compliance(f, h);
+    const Real alpha_tilde = compliance_h.alpha_tilde, gamma = compliance_h.gamma;
     const Real rest = f.rest, keep = first ? Real(0) : Real(1);
     if (half == 0) {
       // Downwards, constraint t after t − 1 sharing particle t; at the twist only its pivot and
@@ -664,7 +666,8 @@ class GridXpbd final : public Solver {
                      *__restrict inv_beta = cs.inv_beta.data();
     Lane* __restrict lambda = cs.lambda.data();
     const Real* __restrict w = particles_.inv_mass.data();
-    const auto [alpha_tilde, gamma] = compliance(f, h);
+    const Compliance<Real> compliance_h = compliance(f, h);
+    const Real alpha_tilde = compliance_h.alpha_tilde, gamma = compliance_h.gamma;
     const Real rest = f.rest, keep = first ? Real(0) : Real(1);
     // Each constraint's direction, diagonal and right-hand side, by its first particle's slot.
     // Each run goes on to the end of its block (k < block, not u.k_end): in the block of the
@@ -755,7 +758,8 @@ class GridXpbd final : public Solver {
   // Sweeps the row whose first slot is `start` spring by spring, kFixedChainSweeps times
   // red–black, each projection from λ = 0.
   void sweep_chain(const Family& f, Real h, int start) {
-    const auto [alpha_tilde, gamma] = compliance(f, h);
+    const Compliance<Real> compliance_h = compliance(f, h);
+    const Real alpha_tilde = compliance_h.alpha_tilde, gamma = compliance_h.gamma;
     for (int sweep = 0; sweep < kFixedChainSweeps; ++sweep)
       for (int colour = 0; colour < 2; ++colour)
         for (int t = colour; t + 1 < cols_; t += 2)
@@ -769,7 +773,8 @@ class GridXpbd final : public Solver {
   // every column crossed the other thread's rows, whose cache lines then went back and forth
   // between the cores every pass.
   void sweep_fixed_columns(const Family& f, Real h, int parts) {
-    const auto [alpha_tilde, gamma] = compliance(f, h);
+    const Compliance<Real> compliance_h = compliance(f, h);
+    const Real alpha_tilde = compliance_h.alpha_tilde, gamma = compliance_h.gamma;
     const int stride = grid_.stride;
     for (int sweep = 0; sweep < kFixedChainSweeps; ++sweep) {
       for (int colour = 0; colour < 2; ++colour) {

@@ -353,8 +353,8 @@ class Particles {
     void push(const PointPush& push, const Collider& col) {
       Vec3 moves[3];
       double sum = 0.0;
-      auto inv_mass = [&](int32_t i) { return double(p.inv_mass[slot(i)]); };
-      if (!push_moves(push, inv_mass, moves, sum)) return;
+      auto inverse_mass = [&](int32_t i) { return double(p.inv_mass[slot(i)]); };
+      if (!push_moves(push, inverse_mass, moves, sum)) return;
       Vec3 point = Vec3::Zero(), slide = Vec3::Zero();
       for (int k = 0; k < push.count; ++k) {
         const int32_t c = slot(push.index[k]);
@@ -365,7 +365,7 @@ class Particles {
       const Vec3 held =
           friction_change(slide - col.surface_move(point), push.n, col.friction, push.depth);
       for (int k = 0; k < push.count; ++k)
-        add(slot(push.index[k]), (-push.w[k] * inv_mass(push.index[k]) / sum) * held);
+        add(slot(push.index[k]), (-push.w[k] * inverse_mass(push.index[k]) / sum) * held);
     }
     void add(int32_t c, const Vec3& d) {
       p.move.x[c] += static_cast<Real>(d.x());

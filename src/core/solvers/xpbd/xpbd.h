@@ -56,7 +56,8 @@ int automatic_substeps(const World& w, const SolverDef& def, Swept swept) {
 }
 
 /// A spring's XPBD compliance α̃ = 1/(k·h²) and damping γ = α̃·β·h²/h = c/(k·h) with β = c
-/// (N·s/m) for a substep of h (Macklin et al. 2016, eq. 26).
+/// (N·s/m) for a substep of h (Macklin et al. 2016, eq. 26). Read into named locals, not a
+/// structured binding: clang 14 cannot capture a structured binding in an OpenMP region.
 template <typename Real>
 struct Compliance {
   Real alpha_tilde, gamma;
