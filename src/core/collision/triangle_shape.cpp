@@ -39,12 +39,9 @@ TriangleShape::TriangleShape(std::vector<Vec3> vertices, const std::vector<Trian
   }
   // Closed: every edge is met twice, once each way.
   std::unordered_map<uint64_t, std::array<int32_t, 2>> edges;  // edge → its (up to 2) faces
-  auto key = [](int32_t u, int32_t v) {
-    return (uint64_t(uint32_t(std::min(u, v))) << 32) | uint32_t(std::max(u, v));
-  };
   for (size_t f = 0; f < triangles_.size(); ++f)
     for (int e = 0; e < 3; ++e) {
-      auto [it, fresh] = edges.try_emplace(key(triangles_[f][e], triangles_[f][(e + 1) % 3]),
+      auto [it, fresh] = edges.try_emplace(edge_key(triangles_[f][e], triangles_[f][(e + 1) % 3]),
                                            std::array<int32_t, 2>{int32_t(f), -1});
       if (fresh) continue;
       if (it->second[1] == -1)
@@ -80,7 +77,7 @@ TriangleShape::TriangleShape(std::vector<Vec3> vertices, const std::vector<Trian
   edge_normal_.resize(3 * nt);
   for (size_t f = 0; f < nt; ++f)
     for (int e = 0; e < 3; ++e) {
-      const auto& faces = edges.at(key(triangles_[f][e], triangles_[f][(e + 1) % 3]));
+      const auto& faces = edges.at(edge_key(triangles_[f][e], triangles_[f][(e + 1) % 3]));
       Vec3 n = face_normal_[faces[0]];
       if (faces[1] >= 0) n += face_normal_[faces[1]];
       edge_normal_[3 * f + e] = n;

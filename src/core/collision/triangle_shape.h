@@ -5,6 +5,7 @@
 // side the query point lies on exactly when it is outside.
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <vector>
 
@@ -12,6 +13,11 @@
 #include "drape/mesh.h"
 
 namespace drape {
+
+/// Edge u–v's key in a hash map, the same whichever way the edge is passed.
+inline uint64_t edge_key(int32_t u, int32_t v) {
+  return (uint64_t(uint32_t(std::min(u, v))) << 32) | uint32_t(std::max(u, v));
+}
 
 class TriangleShape {
  public:
