@@ -2,6 +2,7 @@
 // rim) and the pushes that keep the cloth's edges and triangles out of them, against closed forms.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <tuple>
 #include <utility>
@@ -240,5 +241,34 @@ TEST(FeaturePush, ATriangleOverACornerIsPushedOutAlongItsNormal) {
       corner_triangle_push(c, faces, a + aside, b + aside, d + aside, 0.005, 0, w, n, depth));
 }
 
+// A sheet's rim corner at the origin (the sheet in y = 0 over x < 0, z < 0). A triangle lying
+// nearly in the sheet's plane round the corner, across it (its plane s·(0.001 + 0.01x − 0.015z),
+// 1 mm above or below the corner), with none of its own corners over the sheet, its rim edges
+// leaving it to different sides and no side from the frame's start, is pushed the shorter way
+// out along its normal, to the gap; a side from the frame's start still wins.
+TEST(FeaturePush, ATriangleFlatRoundASheetsCornerIsPushedTheShorterWayOut) {
+  const SharpFeatures::Corner c{Vec3::Zero(), Vec3(1.0, 0.0, 1.0).normalized(), 0, 0,
+                                true,         {-Vec3::UnitX(), -Vec3::UnitZ()}};
+  auto at = [](double s) {
+    auto point = [s](double x, double z) { return Vec3(x, s * (0.001 + 0.01 * x - 0.015 * z), z); };
+    return std::array{point(0.1, -0.12), point(-0.12, 0.1), point(0.1, 0.1)};
+  };
+  const double lift = 0.001 / Vec3(-0.01, 1.0, 0.015).norm();  // the plane's height at the corner
+  double w[3], depth = 0.0;
+  Vec3 n;
+  for (const double s : {1.0, -1.0}) {
+    const auto x = at(s);
+    const Vec3 out = Vec3(-0.01, s, 0.015).normalized();  // its normal, turned down for s < 0
+    ASSERT_TRUE(corner_triangle_push(c, nullptr, x[0], x[1], x[2], 0.005, 0, w, n, depth)) << s;
+    EXPECT_TRUE(n.isApprox(out, 1e-12)) << s;
+    EXPECT_NEAR(depth, 0.005 - lift, 1e-12);
+    ASSERT_TRUE(corner_triangle_push(c, nullptr, x[0], x[2], x[1], 0.005, 0, w, n, depth)) << s;
+    EXPECT_TRUE(n.isApprox(out, 1e-12)) << s;
+  }
+  const auto x = at(1.0);  // its winding's normal points up
+  ASSERT_TRUE(corner_triangle_push(c, nullptr, x[0], x[1], x[2], 0.005, -1, w, n, depth));
+  EXPECT_TRUE(n.isApprox(-Vec3(-0.01, 1.0, 0.015).normalized(), 1e-12));
+  EXPECT_NEAR(depth, 0.005 + lift, 1e-12);
+}
 }  // namespace
 }  // namespace drape

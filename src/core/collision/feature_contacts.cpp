@@ -82,7 +82,8 @@ bool blade_push(const SharpFeatures::Edge& e, const Vec3& p, const Vec3& q, doub
 //    face, not the corner's);
 //  - else the side both rim edges turn away from its plane;
 //  - else (the edges leave it to different sides, or lie nearly in its plane) the side it
-//    started the frame on, where that was decided.
+//    started the frame on, where that was decided;
+//  - else the side its plane passes the corner on (the shorter way out).
 // A triangle wholly above or below the sheet cannot meet the corner.
 bool rim_corner_push(const SharpFeatures::Corner& c, const Vec3* const x[3], Vec3& n, int side,
                      double gap, double& depth) {
@@ -109,7 +110,8 @@ bool rim_corner_push(const SharpFeatures::Corner& c, const Vec3* const x[3], Vec
   } else if (s1 * s2 >= 0.0 && std::max(std::abs(s1), std::abs(s2)) >= kEdgeOn) {
     side = s1 + s2 < 0.0 ? 1 : -1;
   } else if (side == 0) {
-    return false;
+    // Nothing tells: the side the triangle's plane passes the corner on, the shorter way out.
+    side = n.dot(*x[0] - c.p) < 0.0 ? -1 : 1;
   }
   n *= side;
   depth = gap - n.dot(*x[0] - c.p);
