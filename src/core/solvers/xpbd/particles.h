@@ -254,7 +254,8 @@ class Particles {
 
   // The contacts of one collider of any shape, moving or not (position_contact in collider.h,
   // in double), on the free particles of slots [begin, end): runs that lie wholly outside the
-  // collider's bounding sphere are skipped by a test that vectorises, the rest taken one by one.
+  // collider's bounding sphere, or a box's slabs, are skipped by tests that vectorise, the rest
+  // taken one by one.
   void contacts_any(const Collider& col, int32_t begin, int32_t end) {
     const Real* __restrict w = inv_mass.data();
     const Real *__restrict bx = base.x.data(), *__restrict by = base.y.data(),
@@ -279,6 +280,7 @@ class Particles {
         }
         if (clearance > 0) continue;
       }
+      if (col.type == ColliderType::box && beyond_box_slabs(col, c0, c1)) continue;
       for (int32_t c = c0; c < c1; ++c) {
         if (!(w[c] > Real(0))) continue;
         Vec3 m{double(mx[c]), double(my[c]), double(mz[c])};
@@ -289,6 +291,37 @@ class Particles {
         mz[c] = static_cast<Real>(m.z());
       }
     }
+  }
+
+  // Whether every slot of [c0, c1) lies farther than the thickness beyond one of a box's faces'
+  // planes (its slabs: a lower bound of the distance, so the box's contacts would leave them as
+  // they are). On a tablecloth most of the cloth hangs beside the table, within its bounding
+  // sphere.
+  bool beyond_box_slabs(const Collider& col, int32_t c0, int32_t c1) const {
+    const Real *__restrict bx = base.x.data(), *__restrict by = base.y.data(),
+                           *__restrict bz = base.z.data();
+    const Real *__restrict mx = move.x.data(), *__restrict my = move.y.data(),
+                           *__restrict mz = move.z.data();
+    Real r[3][3], h[3];
+    for (int k = 0; k < 3; ++k) {
+      for (int l = 0; l < 3; ++l) r[k][l] = static_cast<Real>(col.rotation(l, k));
+      h[k] = static_cast<Real>(col.half_extents[k]);
+    }
+    const Real cx = static_cast<Real>(col.center.x()), cy = static_cast<Real>(col.center.y()),
+               cz = static_cast<Real>(col.center.z());
+    // Widened as the bounding sphere's test, far above its round-off in single precision.
+    const Real reach = static_cast<Real>(
+        1.001 * col.thickness + 1e-3 * (1.0 + col.center.norm() + col.half_extents.norm()));
+    Real clearance = std::numeric_limits<Real>::max();
+#pragma omp simd reduction(min : clearance)
+    for (int32_t c = c0; c < c1; ++c) {
+      const Real px = (bx[c] - cx) + mx[c], py = (by[c] - cy) + my[c], pz = (bz[c] - cz) + mz[c];
+      Real beyond = std::abs(r[0][0] * px + r[0][1] * py + r[0][2] * pz) - h[0];
+      beyond = std::max(beyond, std::abs(r[1][0] * px + r[1][1] * py + r[1][2] * pz) - h[1]);
+      beyond = std::max(beyond, std::abs(r[2][0] * px + r[2][1] * py + r[2][2] * pz) - h[2]);
+      clearance = std::min(clearance, beyond - reach);
+    }
+    return clearance > 0;
   }
 
   // The triangles (corners as slots) against moving spheres and capsules
