@@ -567,7 +567,8 @@ class MeshXpbd final : public Solver {
   // One pass over the chains, layer by layer (block Gauss–Seidel between layers), every pass but
   // the last over-relaxed by ω, as the grid's; then the left-over structural springs, swept.
   void solve_chains(Real h, bool first, Real omega) {
-    const Compliance<Real> compliance_h = Compliance<Real>::of(structural_.stiffness, structural_.damping, h);
+    const Compliance<Real> compliance_h =
+        Compliance<Real>::of(structural_.stiffness, structural_.damping, h);
     const Real alpha_tilde = compliance_h.alpha_tilde, gamma = compliance_h.gamma;
     for (ChainLayer<Real>& layer : layers_) {
 #pragma omp for schedule(static)
