@@ -298,9 +298,7 @@ void FeatureContacts::gather(const std::vector<Collider>& colliders,
     if (c.mesh && !c.mesh->closed()) {
       const size_t before = sheet_pairs_.size();
       for (int32_t i = 0; i < int32_t(start_.size()); ++i) {
-        if (state.inv_mass[i] == 0.0 ||
-            (start_[i] - c.bound_center).norm() > c.bound_radius + margin)
-          continue;
+        if (state.inv_mass[i] == 0.0 || clear_of(c, start_[i], allowed_ + travel[k])) continue;
         Vec3 n;
         if (c.mesh->signed_distance(local_[i], n) < margin)
           sheet_pairs_.push_back({c.mesh.get(), i, local_[i]});
