@@ -14,6 +14,7 @@
 #include "io/scene_io.h"
 #include "lab/cusick.h"
 #include "lab/elastica.h"
+#include "model/model.h"
 
 namespace drape {
 namespace {
@@ -142,6 +143,39 @@ TEST(MaterialModel, SheetStiffnessIsTheMaterialsOnGridsAtAnyResolution) {
     EXPECT_NEAR(measured_stretch(m, true), 205.352005, 1e-3 * 205.0) << n;
     EXPECT_NEAR(measured_stretch(m, false), 1013.88629, 1e-3 * 1013.0) << n;
     EXPECT_NEAR(measured_stretch(m, true, 1e-4), 53.387184, 1e-3 * 53.0) << n;
+  }
+}
+
+TEST(MaterialModel, AGridsSheetHasNoFreeModeWhereTheShearExceedsTheStretch) {
+  // The knit's shear (36.9 N/m) exceeds its warp stretch (16.6): a grid's diagonals carrying
+  // that shear would carry all of both stretches, and warp stretched as weft shortens would
+  // cost nothing. The grid takes the shear its threads allow and keeps both stretches exact.
+  const MaterialDef knit = *material_preset("knit");
+  for (int n : {8, 33}) {
+    const ClothModel m = build_model(material_grid("knit", n, n / 2 + 1, 1.0, 0.7));
+    const double dx = 1.0 / (n - 1), dy = 0.7 / (n / 2);
+    const double G = model::grid_shear(knit, dx, dy);
+    EXPECT_NEAR(measured_stretch(m, true), knit.stretch.x(), 1e-3 * knit.stretch.x()) << n;
+    EXPECT_NEAR(measured_stretch(m, false), knit.stretch.y(), 1e-3 * knit.stretch.y()) << n;
+    EXPECT_NEAR(measured_stretch(m, true, 1e-4), G, 1e-3 * G) << n;
+    EXPECT_GT(G, 0.0);
+    EXPECT_LT(G, knit.shear);
+    // Each thread keeps its share of the stretch.
+    for (const Spring& s : m.springs) {
+      if (s.kind == SpringKind::structural) {
+        EXPECT_GT(s.stiffness, 0.0);
+      }
+    }
+    // ε_uu = ε, ε_vv = −ε: W = ½·(C_uu + C_vv − 2·G)·ε², G being the diagonals' coupling. The
+    // diagonals give the weft G·dy²/dx² of its stiffness; its compressed threads the rest times
+    // `compression`.
+    const double eps = 1e-4, weft_diagonals = G * dy * dy / (dx * dx);
+    const double c_vv = weft_diagonals + knit.compression * (knit.stretch.y() - weft_diagonals);
+    std::vector<Vec3> x = m.rest_position;
+    for (Vec3& p : x) p.x() *= 1.0 + eps, p.z() *= 1.0 - eps;
+    const double mode = 2.0 * forces::spring_energy(m, x) / rest_area(m) / (eps * eps);
+    EXPECT_NEAR(mode, knit.stretch.x() + c_vv - 2.0 * G, 1e-3 * mode) << n;
+    EXPECT_GT(mode, 0.25 * knit.stretch.x()) << n;
   }
 }
 
@@ -357,20 +391,26 @@ TEST(MaterialConvergence, DenimOverTheSphereEndsInTheSameShapeAt32_64And128Cells
   EXPECT_NEAR(fine.low_y, coarse.low_y, 0.01);
 }
 
-// The stiff preset is held to 5% at three resolutions (measured: −0.05% at 16 cells and +0.01%
-// at 32 for L = 8 cm). The soft knit (stretch 16.6 N/m, two orders softer than the others') sagged
-// about 9% more than the elastica at 16 and 32 cells here; `drape lab cantilever --material knit`
-// measures it as a fabric lab does instead (within 2% of its rigidity, LabCantilever). 32 implicit
-// substeps a frame: with one, the rotation of springs with k·h²/m ≫ 1 is damped so hard by the
-// single Newton step that a fine strip creeps toward rest for many seconds; at 64 cells even 32
-// substeps leave it short after 4 s (−30%). xpbd at its automatic substeps: −0.33%, −0.02% and
-// +0.14% (with the material's damping inside its projections, +15% at 32 cells: see
-// solvers/xpbd/mesh_xpbd.cpp).
-TEST(Elastica, AClampedStripSagsAsTheShootingSolutionAtThreeResolutions) {
+// A stiff and a soft preset, each held to 5% at three resolutions (the figures are in the
+// README). The knit's stretch (16.6 N/m) is two orders below the others'; before its grid took
+// the shear its threads allow (model::grid_shear) it stretched 11% along the strip and sagged 9%
+// more. 32 implicit substeps a frame: with one, the rotation of springs with k·h²/m ≫ 1 is
+// damped so hard by the single Newton step that a fine strip creeps toward rest for many
+// seconds; at 64 cells even 32 substeps leave it short after 4 s (−30%). xpbd at its automatic
+// substeps (with the material's damping inside its projections it sagged 15% too far at 32
+// cells: see solvers/xpbd/mesh_xpbd.cpp).
+struct StripCase {
+  const char* preset;
+  double length;  // m, long enough for a drop of about two thirds of it
+};
+
+class Elastica : public ::testing::TestWithParam<StripCase> {};
+
+TEST_P(Elastica, AClampedStripSagsAsTheShootingSolutionAtThreeResolutions) {
   // Peirce's cantilever: a strip along the warp (u), its first two columns pinned (the clamp,
   // so θ(0) = 0 at the second), its free length L beyond them.
-  const char* preset = "cotton-polyester";
-  const double L = 0.08;
+  const char* preset = GetParam().preset;
+  const double L = GetParam().length;
   const MaterialDef mat = *material_preset(preset);
   const double w = mat.density * 9.81, B = mat.bending.x();
   for (Method method : {Method::implicit, Method::xpbd})
@@ -403,6 +443,13 @@ TEST(Elastica, AClampedStripSagsAsTheShootingSolutionAtThreeResolutions) {
       EXPECT_NEAR(drop / expected, 1.0, 0.05) << to_string(method) << " " << preset << " " << cells;
     }
 }
+
+INSTANTIATE_TEST_SUITE_P(StiffAndSoft, Elastica,
+                         ::testing::Values(StripCase{"cotton-polyester", 0.08},
+                                           StripCase{"knit", 0.05}),
+                         [](const auto& test) {
+                           return std::string(test.param.preset[0] == 'k' ? "knit" : "stiff");
+                         });
 
 }  // namespace
 }  // namespace drape

@@ -25,6 +25,16 @@ ClothModel from_mesh(const ClothDef& def);
 /// the springs. Called by build_model after the generator.
 void apply_material(const MaterialDef& material, ClothModel& m);
 
+/// The least share of a grid's warp and weft stretch its threads (structural springs) carry
+/// themselves; the diagonals carry the rest, and with it the shear.
+inline constexpr double kThreadShare = 0.5;
+
+/// The shear stiffness (N/m) a grid of dx × dy cells gives `material`: its own, or less where
+/// the diagonals that carry it would leave the threads under kThreadShare of the stretch. A
+/// grid's diagonals stiffen warp and weft too (model/material.cpp), and where they carry all of
+/// both, the sheet has a mode that costs no energy: warp stretched as weft shortens.
+double grid_shear(const MaterialDef& material, double dx, double dy);
+
 /// Throws InputError at `path` naming the first problem that stops `mesh` from being a cloth:
 /// no triangles, an index out of range, a non-finite coordinate, a vertex in no triangle, a
 /// triangle of zero area, an edge shared by more than two triangles. Triangles are named by
