@@ -47,15 +47,17 @@ class Implicit final : public Solver {
       warm_ = false;
     }
     substeps_ = def.substeps > 0 ? def.substeps : 1;
+    frame_dt_ = def.dt;
     tolerance_ = def.cg_tolerance;
     max_iterations_ = def.cg_max_iterations;
   }
 
   void step_frame(World& w, double dt) override {
-    const double h = dt / substeps_;
+    const int steps = substeps_in(dt, frame_dt_, substeps_);
+    const double h = dt / steps;
     ClothState& s = w.state;
     const int32_t n = w.model.size();
-    for (int k = 0; k < substeps_; ++k) {
+    for (int k = 0; k < steps; ++k) {
       if (k > 0 && w.stop_here()) break;
       w.pose_colliders(w.time + k * h, w.time + (k + 1) * h);
       assemble(w, h, w.time + k * h);
@@ -303,6 +305,7 @@ class Implicit final : public Solver {
   }
 
   int substeps_ = 1;
+  double frame_dt_ = 0.0;
   double h_ = 0.0, h2_ = 0.0;  // the substep's h and h² (the bending blocks are formed from them)
   double tolerance_ = 1e-5;
   int max_iterations_ = 2000;

@@ -1,5 +1,7 @@
 #include "solver.h"
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 
 #include "forces.h"
@@ -31,6 +33,12 @@ std::string count_text(double count) {
   char text[48];
   std::snprintf(text, sizeof text, "%.0f", count);
   return text;
+}
+
+int substeps_in(double dt, double frame_dt, int per_frame) {
+  // A part of a frame is dt = frame_dt / parts up to round-off, which must not add a substep.
+  const double share = std::ceil(per_frame * (dt / frame_dt) * (1.0 - 1e-9));
+  return std::clamp(static_cast<int>(share), 1, per_frame);
 }
 
 void drag_drift_constrain(World& w, double h) {

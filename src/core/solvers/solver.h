@@ -88,6 +88,12 @@ std::unique_ptr<Solver> make_solver(const SolverDef& def, const ClothModel& mode
 /// infinite), written for a message: "10700", "inf".
 std::string count_text(double count);
 
+/// The substeps a step of dt takes in a method that takes `per_frame` in a frame of frame_dt:
+/// the step's share of them, rounded up. A part of a frame (self-collision's collision steps)
+/// then runs substeps as long as the frame's, not `per_frame` shorter ones: split into eight
+/// parts, a frame would otherwise cost eight frames.
+int substeps_in(double dt, double frame_dt, int per_frame);
+
 /// The end of a velocity-level substep shared by `symplectic` and `implicit`: drag
 /// (semi-implicit, stable at any h), the drift x += h·v, long-range attachments, then contacts
 /// (last, so nothing stays inside a collider). Pinned and held particles (1/m = 0) stay put.

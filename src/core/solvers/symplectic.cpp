@@ -36,6 +36,7 @@ class Symplectic final : public Solver {
  public:
   void prepare(const World& w, const SolverDef& def) override {
     force_.assign(w.model.size(), Vec3::Zero());
+    frame_dt_ = def.dt;
     if (def.substeps > 0) {
       substeps_ = def.substeps;
       return;
@@ -54,11 +55,12 @@ class Symplectic final : public Solver {
   }
 
   void step_frame(World& w, double dt) override {
-    const double h = dt / substeps_;
+    const int steps = substeps_in(dt, frame_dt_, substeps_);
+    const double h = dt / steps;
     ClothState& s = w.state;
     const int32_t n = w.model.size();
     const bool wind = w.forces.wind.strength > 0.0 && w.forces.wind.coefficient > 0.0;
-    for (int k = 0; k < substeps_; ++k) {
+    for (int k = 0; k < steps; ++k) {
       if (k > 0 && w.stop_here()) break;
       w.pose_colliders(w.time + k * h, w.time + (k + 1) * h);
       // 1. Forces at the start of the substep.
@@ -87,6 +89,7 @@ class Symplectic final : public Solver {
 
  private:
   int substeps_ = 1;
+  double frame_dt_ = 0.0;
   std::vector<Vec3> force_;
 };
 
