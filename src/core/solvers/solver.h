@@ -58,7 +58,8 @@ class Solver {
   /// cannot run this set-up (e.g. too many substeps).
   virtual void prepare(const World& world, const SolverDef& def) = 0;
   /// Advances one frame of dt, or part of it: between substeps it asks world.stop_here() and
-  /// stops when told to. Leaves state.normal up to date.
+  /// stops when told to. A dt shorter than the frame's (a collision step's part) takes its
+  /// share of the frame's substeps (substeps_in). Leaves state.normal up to date.
   virtual void step_frame(World& world, double dt) = 0;
   /// Says that the state was changed since the last frame other than by step_frame or a
   /// prepare() (the hand moved a held particle). A method that keeps the state in arrays of its
