@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <vector>
 
 #include "drape/cloth.h"
 
@@ -40,6 +41,42 @@ inline int max_threads() {
   return 1;
 #endif
 }
+
+/// The calling thread's number in its parallel region (0 outside one).
+inline int thread_number() {
+#ifdef _OPENMP
+  return omp_get_thread_num();
+#else
+  return 0;
+#endif
+}
+
+/// Lists the threads of a parallel region fill, one each, that keep their storage from one
+/// region to the next: a search run every step allocates only while what it finds grows.
+template <class T>
+class ThreadLists {
+ public:
+  /// Before the region: a cleared list for each thread it may use.
+  void clear() {
+    if (lists_.size() < static_cast<size_t>(max_threads())) lists_.resize(max_threads());
+    for (std::vector<T>& list : lists_) list.clear();
+  }
+  /// Inside the region: the calling thread's list.
+  std::vector<T>& mine() { return lists_[thread_number()]; }
+  /// After it: every list appended to `out`, in thread order.
+  void gather(std::vector<T>& out) const {
+    for (const std::vector<T>& list : lists_) out.insert(out.end(), list.begin(), list.end());
+  }
+  int64_t bytes() const {
+    int64_t sum = static_cast<int64_t>(lists_.capacity() * sizeof(std::vector<T>));
+    for (const std::vector<T>& list : lists_)
+      sum += static_cast<int64_t>(list.capacity() * sizeof(T));
+    return sum;
+  }
+
+ private:
+  std::vector<std::vector<T>> lists_;
+};
 
 }  // namespace drape
 

@@ -7,6 +7,7 @@
 
 #include "box_grid.h"
 #include "drape/mesh.h"
+#include "parallel.h"
 
 namespace drape {
 
@@ -33,6 +34,7 @@ class CrossingFinder {
   std::vector<Box> boxes_;
   std::vector<int32_t> kept_;
   BoxGrid grid_;
+  ThreadLists<TrianglePair> found_;
 };
 
 }  // namespace drape

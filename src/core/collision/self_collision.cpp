@@ -118,7 +118,7 @@ double SelfCollision::relative_motion(const std::vector<Vec3>& start, const std:
 int64_t SelfCollision::bytes() const {
   return heap_bytes(edges_, face_boxes_, edge_boxes_, kept_faces_, kept_edges_, contacts_, solved_,
                     contacted_, mobility_, crossing_, zone_, zone_state_, zoned_) +
-         face_grid_.bytes() + edge_grid_.bytes();
+         face_grid_.bytes() + edge_grid_.bytes() + found_.bytes();
 }
 
 void SelfCollision::find_contacts(const ClothModel& model, const std::vector<Vec3>& start,
@@ -184,9 +184,10 @@ void SelfCollision::find_contacts(const ClothModel& model, const std::vector<Vec
   };
 
   contacts_.clear();
+  found_.clear();
 #pragma omp parallel if (worth_threads(n))
   {
-    std::vector<Contact> mine;
+    std::vector<Contact>& mine = found_.mine();
     // Vertex–triangle pairs cell by cell, each in the one cell the grid reports it in.
     const int64_t face_cells = face_grid_.cells();
 #pragma omp for schedule(dynamic, 64) nowait
@@ -201,9 +202,8 @@ void SelfCollision::find_contacts(const ClothModel& model, const std::vector<Vec
       edge_grid_.each_pair_in(cell, [&](int32_t e, int32_t f) {
         if (edge_edge(e, f)) mine.push_back({e, f, 1});
       });
-#pragma omp critical
-    contacts_.insert(contacts_.end(), mine.begin(), mine.end());
   }
+  found_.gather(contacts_);
   // The order the threads found them in varies; the order they are resolved in must not.
   std::sort(contacts_.begin(), contacts_.end(), [](const Contact& u, const Contact& w) {
     return u.kind != w.kind ? u.kind < w.kind : u.a != w.a ? u.a < w.a : u.b < w.b;

@@ -96,6 +96,7 @@ class SelfCollision {
   std::vector<int32_t> kept_faces_, kept_edges_;
   BoxGrid face_grid_, edge_grid_;
   std::vector<Contact> contacts_;
+  ThreadLists<Contact> found_;    ///< each thread's contacts, gathered into contacts_
   std::vector<Vec3> solved_;      ///< the positions the solver left, for the velocity change
   std::vector<double> mobility_;  ///< per particle, the inverse mass contacts move it with
   std::vector<Vec3> contacted_;   ///< the positions the contacts left, for zones' momenta

@@ -99,9 +99,10 @@ void CrossingFinder::find(const std::vector<Triangle>& triangles,
   // Each pair in each cell they share, tested only in the one cell where the grid reports it.
   // Found per cell in parallel, kept in cell order: the same list for any thread count.
   const int64_t cells = grid_.cells();
+  found_.clear();
 #pragma omp parallel if (worth_threads(grid_.entries()))
   {
-    std::vector<TrianglePair> mine;
+    std::vector<TrianglePair>& mine = found_.mine();
 #pragma omp for schedule(static) nowait
     for (int64_t cell = 0; cell < cells; ++cell)
       grid_.each_pair_in(cell, [&](int32_t s, int32_t t) {
@@ -113,9 +114,8 @@ void CrossingFinder::find(const std::vector<Triangle>& triangles,
         if (apart(corners_s, corners_t) || apart(corners_t, corners_s)) return;
         if (triangles_cross(corners_s, corners_t)) mine.push_back({s, t});
       });
-#pragma omp critical
-    out.insert(out.end(), mine.begin(), mine.end());
   }
+  found_.gather(out);
   std::sort(out.begin(), out.end(), [](const TrianglePair& a, const TrianglePair& b) {
     return a.s != b.s ? a.s < b.s : a.t < b.t;
   });
