@@ -376,9 +376,7 @@ class MeshXpbd final : public Solver {
   void state_changed() override { current_ = false; }
 
   void step_frame(World& w, double dt) override {
-    // A part of a frame takes its share of the substeps, but with line passes all of them:
-    // the passes are what undoes the stretch self-collision's pushes leave between parts, and
-    // fewer of them left a pile's threads 41-59% stretched at 128² (README, Self-collision).
+    // A part of a frame takes its share of the substeps, with line passes all (grid_xpbd.cpp).
     const int steps = lines_ ? substeps_ : substeps_in(dt, frame_dt_, substeps_);
     const double h = dt / steps;
     ClothState& s = w.state;
