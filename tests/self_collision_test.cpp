@@ -17,6 +17,7 @@
 
 #include <nlohmann/json.hpp>
 #include "brute_force_crossings.h"
+#include "collision/self_collision.h"
 #include "drape/error.h"
 #include "drape/self_intersections.h"
 #include "drape/simulation.h"
@@ -247,6 +248,38 @@ TEST(SelfCollision, APileComesToRest) {
   for (int64_t f = 0; f < frame_count(def); ++f) ASSERT_TRUE(sim.step()) << sim.divergence();
   EXPECT_LT(sim.diagnostics().kinetic_energy, 0.5 * 1.0 * 0.03 * 0.03);  // 3 cm/s
   EXPECT_EQ(count_self_intersections(sim.model().triangles, sim.state().x), 0);
+}
+
+// A frame is split into collision steps only where layers move past each other: a sheet
+// turned a quarter turn in one frame, close to nothing of itself, needs one step; a sheet
+// sliding over another half a thickness below it needs one per half thickness it slides.
+TEST(SelfCollision, AFrameIsSplitOnlyWhereLayersMovePastEachOther) {
+  const double h = 0.01;
+  SceneDef def = two_sheets(8, 0.0, 0.02 + 0.5 * h);
+  def.colliders.clear();
+  Simulation sim(def);
+  const ClothModel& model = sim.model();
+  const size_t half = model.size() / 2;
+  SelfCollision collision;
+  collision.prepare(model, h, 0.0);
+  auto parts_after = [&](const std::vector<Vec3>& start, const std::vector<Vec3>& end) {
+    ClothState state = sim.state();
+    state.x = end;
+    collision.resolve(model, start, {}, 1.0 / 60.0, state);
+    return collision.parts_for(collision.near_motion());
+  };
+  // The lower sheet alone (the upper one far above it) turned a quarter turn about y, its
+  // rim moving 0.7 m: nothing of it comes close to anything else of it.
+  std::vector<Vec3> start = sim.state().x, turned = start;
+  const Eigen::Matrix3d quarter = Eigen::AngleAxisd(1.5707963, Vec3::UnitY()).toRotationMatrix();
+  for (size_t i = half; i < start.size(); ++i) start[i].y() += 1.0, turned[i].y() += 1.0;
+  for (size_t i = 0; i < half; ++i) turned[i] = quarter * start[i];
+  EXPECT_EQ(parts_after(start, turned), 1);
+  // The upper sheet slides 2.4 thicknesses over the lower one: five steps of half a thickness.
+  start = sim.state().x;
+  std::vector<Vec3> slid = start;
+  for (size_t i = half; i < start.size(); ++i) slid[i].x() += 2.4 * h;
+  EXPECT_EQ(parts_after(start, slid), 5);
 }
 
 // A pin with a motion: its particles are where the keyed rotation about their centre puts

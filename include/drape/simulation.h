@@ -171,7 +171,7 @@ class Simulation {
   std::unique_ptr<FeatureContacts> features_;      ///< null unless a collider has sharp features
   std::vector<double> travel_;                     ///< m, each collider's travel this frame
   std::vector<Vec3> frame_start_;                  ///< positions at the start of a collision step
-  double frame_motion_ = 0.0;  ///< m, the cloth's relative motion over the last frame
+  double frame_motion_ = 0.0;  ///< m, how far close layers moved past each other last frame
   /// Each pin entry's particles and where they started (pins with a motion follow it).
   struct PinEntry {
     std::vector<int32_t> particles;

@@ -213,9 +213,10 @@ const char* divergence_hint(Method m) {
 
 void Simulation::step_with_self_collision(World& world) {
   // The collision stage keeps layers apart when they move less than a few thicknesses relative
-  // to each other between two of its passes; a frame in which the cloth deformed faster (a
-  // cloth crumpling on landing) is split into parts, each solved and then collision-checked.
-  // The parts are chosen from the last frame's motion, so a resting pile costs one pass.
+  // to each other between two of its passes; a frame in which layers in contact moved past
+  // each other faster (a cloth crumpling on landing) is split into parts, each solved and then
+  // collision-checked. The parts are chosen from the last frame's contacts, so a resting pile,
+  // or a cloth that touches nothing of itself however it moves, costs one pass.
   const double dt = def_.solver.dt;
   // (fast's matrix is factorised for the whole frame: it takes one part.)
   const int parts = solver_->steps_any_dt() ? self_collision_->parts_for(frame_motion_) : 1;
@@ -227,7 +228,7 @@ void Simulation::step_with_self_collision(World& world) {
     // Even a part cut short is checked: the next frame starts from it.
     if (self_collision_->resolve(model_, frame_start_, colliders_->contact(), dt / parts, state_))
       solver_->state_changed();
-    if (part == 0) frame_motion_ = self_collision_->relative_motion(frame_start_, state_.x) * parts;
+    if (part == 0) frame_motion_ = self_collision_->near_motion() * parts;
   }
 }
 

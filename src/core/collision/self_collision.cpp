@@ -104,17 +104,6 @@ int SelfCollision::parts_for(double motion) const {
   return parts >= kMaxParts ? kMaxParts : parts > 1.0 ? static_cast<int>(parts) : 1;
 }
 
-double SelfCollision::relative_motion(const std::vector<Vec3>& start, const std::vector<Vec3>& x) {
-  if (x.empty()) return 0.0;
-  Vec3 mean = Vec3::Zero();
-  for (size_t i = 0; i < x.size(); ++i) mean += x[i] - start[i];
-  mean /= static_cast<double>(x.size());
-  double largest = 0.0;
-  for (size_t i = 0; i < x.size(); ++i)
-    largest = std::max(largest, (x[i] - start[i] - mean).squaredNorm());
-  return std::sqrt(largest);
-}
-
 int64_t SelfCollision::bytes() const {
   return heap_bytes(edges_, face_boxes_, edge_boxes_, kept_faces_, kept_edges_, contacts_, solved_,
                     contacted_, mobility_, crossing_, zone_, zone_state_, zoned_) +
@@ -183,9 +172,15 @@ void SelfCollision::find_contacts(const ClothModel& model, const std::vector<Vec
     return sp.interior && d.dot(start_offset(edges_[e], edges_[f], start, reach)) < 0.0;
   };
 
+  // How far particles i and j moved relative to each other, squared.
+  auto moved_past = [&](int32_t i, int32_t j) {
+    return ((x[i] - start[i]) - (x[j] - start[j])).squaredNorm();
+  };
+
   contacts_.clear();
   found_.clear();
-#pragma omp parallel if (worth_threads(n))
+  double motion = 0.0;  // the contacts' largest moved_past
+#pragma omp parallel if (worth_threads(n)) reduction(max : motion)
   {
     std::vector<Contact>& mine = found_.mine();
     // Vertex–triangle pairs cell by cell, each in the one cell the grid reports it in.
@@ -193,17 +188,22 @@ void SelfCollision::find_contacts(const ClothModel& model, const std::vector<Vec
 #pragma omp for schedule(dynamic, 64) nowait
     for (int64_t cell = 0; cell < face_cells; ++cell)
       face_grid_.each_pair_across(cell, triangle_count, [&](int32_t t, int32_t p) {
-        if (vertex_triangle(p - triangle_count, t)) mine.push_back({p - triangle_count, t, 0});
+        if (!vertex_triangle(p - triangle_count, t)) return;
+        mine.push_back({p - triangle_count, t, 0});
+        motion = std::max(motion, moved_past(p - triangle_count, triangles[t][0]));
       });
     // Edge pairs cell by cell, each pair in the one cell the grid reports it in.
     const int64_t cells = edge_grid_.cells();
 #pragma omp for schedule(dynamic, 64) nowait
     for (int64_t cell = 0; cell < cells; ++cell)
       edge_grid_.each_pair_in(cell, [&](int32_t e, int32_t f) {
-        if (edge_edge(e, f)) mine.push_back({e, f, 1});
+        if (!edge_edge(e, f)) return;
+        mine.push_back({e, f, 1});
+        motion = std::max(motion, moved_past(edges_[e][0], edges_[f][0]));
       });
   }
   found_.gather(contacts_);
+  near_motion_ = std::sqrt(motion);
   // The order the threads found them in varies; the order they are resolved in must not.
   std::sort(contacts_.begin(), contacts_.end(), [](const Contact& u, const Contact& w) {
     return u.kind != w.kind ? u.kind < w.kind : u.a != w.a ? u.a < w.a : u.b < w.b;

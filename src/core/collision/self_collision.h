@@ -49,13 +49,17 @@ class SelfCollision {
   bool resolve(const ClothModel& model, const std::vector<Vec3>& start,
                const std::vector<Collider>& colliders, double dt, ClothState& state);
 
-  /// How many collision steps a frame needs whose cloth deforms by `motion` (m): enough that
-  /// layers move a few thicknesses at most between two steps, at most kMaxParts.
+  /// How many collision steps a frame needs whose layers move by `motion` (m) relative to each
+  /// other where they come close: enough that they move a fraction of the thickness at most
+  /// between two steps, at most kMaxParts.
   int parts_for(double motion) const;
   static constexpr int kMaxParts = 8;
-  /// The largest motion of a particle from `start` to `x` relative to the cloth's mean motion,
-  /// m (a cloth falling as one has none).
-  static double relative_motion(const std::vector<Vec3>& start, const std::vector<Vec3>& x);
+  /// How far the solver moved the last resolve()'s contacts past each other over its frame
+  /// (the most of any contact's vertex and a corner of its triangle, or the first ends of its
+  /// two edges), m: the slide and the push into a layer the contacts then undo, the larger the
+  /// more the undoing strains the cloth. Layers apart do not count, nor does a cloth moving as
+  /// one or rippling where it lies in one layer.
+  double near_motion() const { return near_motion_; }
 
   const SelfCollisionReport& report() const { return report_; }
   double thickness() const { return thickness_; }
@@ -91,6 +95,7 @@ class SelfCollision {
 
   double thickness_ = 0.0;
   double friction_ = 0.0;
+  double near_motion_ = 0.0;
   std::vector<std::array<int32_t, 2>> edges_;
   std::vector<Box> face_boxes_, edge_boxes_;  ///< face_boxes_: the triangles', then the vertices'
   std::vector<int32_t> kept_faces_, kept_edges_;
