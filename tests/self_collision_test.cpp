@@ -17,6 +17,7 @@
 
 #include <nlohmann/json.hpp>
 #include "brute_force_crossings.h"
+#include "collision/layer_contact.h"
 #include "collision/self_collision.h"
 #include "drape/error.h"
 #include "drape/self_intersections.h"
@@ -237,6 +238,77 @@ TEST(SelfCollision, ASheetOnASlopeStaysOrSlidesByTheLayersFriction) {
   };
   EXPECT_LT(slid(20.0), 0.005);  // tan 20° = 0.36 < 0.5: stays
   EXPECT_GT(slid(35.0), 0.1);    // tan 35° = 0.70 > 0.5: slides (1.2 m/s² for a second: ~0.6 m)
+}
+
+// The solver's pass over the layers the stage left touching (HeldLayers), on one vertex over a
+// level triangle, against the closed forms of an inelastic position-based contact with
+// Coulomb friction: the vertex ends a thickness above; what it fell this substep is undone as a
+// move (no velocity toward or away from the triangle), what it lay too close before as a shift
+// (no velocity either); its slide is cancelled while within μ × the fall undone, else shortened
+// by exactly that.
+namespace {
+struct TestCloth {
+  std::vector<Vec3> base, move;
+  std::vector<double> inverse_mass;
+  Vec3 position(int32_t i) const { return base[i] + move[i]; }
+  double inv_mass(int32_t i) const { return inverse_mass[i]; }
+  Vec3 moved(int32_t i) const { return move[i]; }
+  void add(int32_t i, const Vec3& d) { move[i] += d; }
+  void shift(int32_t i, const Vec3& d) { base[i] += d; }
+};
+
+// Vertex 0 started the substep `gap` above the triangle 1-2-3 (level at y = 0, its normal
+// (x2 − x1) × (x3 − x1) = +y) and moved by `step` since; the triangle's corners are fixed, or
+// rest on the ground (grounded: they fell by `fall` this substep, which the ground will undo).
+TestCloth held_vertex(double gap, const Vec3& step, bool grounded, double fall, double h,
+                      double mu) {
+  TestCloth cloth;
+  cloth.base = {Vec3(0.2, gap, 0.2), Vec3(0, 0, 0), Vec3(0, 0, 1), Vec3(1, 0, 0)};
+  cloth.move.assign(4, grounded ? Vec3(0, -fall, 0) : Vec3::Zero());
+  cloth.move[0] = step;
+  cloth.inverse_mass = {2.0, grounded ? 3.0 : 0.0, grounded ? 3.0 : 0.0, grounded ? 3.0 : 0.0};
+  HeldLayers held;
+  held.thickness = h;
+  held.friction = mu;
+  held.pairs.push_back({{0, 1, 2, 3}, 0, 1, uint8_t(grounded ? 0b1110 : 0)});
+  held.apply(cloth);
+  return cloth;
+}
+}  // namespace
+
+TEST(HeldLayers, AVertexEndsAThicknessAboveWithNoNormalVelocityAndCoulombFriction) {
+  const double h = 0.01, mu = 0.5;
+  for (const bool grounded : {false, true}) {
+    // Grounded corners fell 0.2h with the vertex; its thickness is kept from where they are.
+    const double sink = grounded ? 0.2 * h : 0.0;
+    // Started 0.4h above and fell 0.2h: 0.2h of the fall is undone as a move, the rest of the
+    // depth (where it lay too close before) as a shift.
+    TestCloth c = held_vertex(0.4 * h, Vec3(0, -0.2 * h, 0), grounded, sink, h, mu);
+    EXPECT_NEAR(c.position(0).y(), h - sink, 1e-15) << grounded;
+    EXPECT_NEAR(c.move[0].y(), 0.0, 1e-15) << grounded;
+    EXPECT_NEAR(c.base[0].y(), h - sink, 1e-15) << grounded;
+    const TestCloth start = held_vertex(2.0 * h, Vec3::Zero(), grounded, sink, h, mu);
+    for (int k = 1; k < 4; ++k) {  // grounded corners do not give way; fixed ones cannot
+      EXPECT_EQ(c.base[k], start.base[k]);
+      EXPECT_EQ(c.move[k], Vec3(0, -sink, 0));
+    }
+    // A vertex a thickness above the corners at the substep's start, fallen 0.2h: a slide
+    // within μ × that fall (0.1h) is cancelled (a grounded corner's own fall is not an
+    // approach)...
+    const double gap = h - sink;
+    c = held_vertex(gap, Vec3(0.08 * h, -0.2 * h, 0.0), grounded, sink, h, mu);
+    EXPECT_NEAR(c.position(0).y(), h - sink, 1e-15) << grounded;
+    EXPECT_NEAR(c.move[0].x(), 0.0, 1e-15) << grounded;
+    // ... a larger one is shortened by exactly that.
+    c = held_vertex(gap, Vec3(0.3 * h, -0.2 * h, 0.0), grounded, sink, h, mu);
+    EXPECT_NEAR(c.move[0].x(), 0.2 * h, 1e-15) << grounded;
+  }
+  // Beyond the thickness, nothing; deeper than a thickness on the other side (it came round an
+  // edge, not through the face), nothing: the stage's business.
+  for (const double gap : {1.5, -1.5}) {
+    const TestCloth c = held_vertex(gap * h, Vec3(0, -0.2 * h, 0), false, 0.0, h, mu);
+    EXPECT_NEAR((c.position(0) - Vec3(0.2, (gap - 0.2) * h, 0.2)).norm(), 0.0, 1e-15) << gap;
+  }
 }
 
 // A pile comes to rest instead of jittering: after 8 s its kinetic energy is what a 1 kg

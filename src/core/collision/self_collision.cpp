@@ -18,16 +18,8 @@ constexpr int kContactPasses = 4;
 // Pairs this many thicknesses apart at the end of the frame are kept as contacts, so a pass
 // that moves a neighbour closer still finds them.
 constexpr double kReach = 2.0;
-// How far outside a triangle (in barycentric terms) a vertex still counts as over its face:
-// a vertex over a corner or an edge is then over every triangle there.
-constexpr double kFaceMargin = 0.05;
 // Particles this close to a collider (in thicknesses) rest on it.
 constexpr double kGrounded = 0.1;
-// The least share of a pair's weight its free (ungrounded) corners must carry for the pair to
-// push off the ground's side alone.
-constexpr double kLeastShare = 0.25;
-// Edges at a smaller angle than this (its sine) are parallel for edge–edge contacts.
-constexpr double kLeastSine = 0.1;
 // Pairs this close (in thicknesses) at the end of the frame count as touching.
 constexpr double kTouching = 1.01;
 // Thicknesses layers may move relative to each other between two collision steps: further,
@@ -97,6 +89,8 @@ void SelfCollision::prepare(const ClothModel& model, double thickness, double fr
   std::iota(zone_.begin(), zone_.end(), 0);
   zone_state_.assign(model.size(), 0);
   zoned_.clear();
+  contacts_.clear();
+  held_.pairs.clear();
 }
 
 int SelfCollision::parts_for(double motion) const {
@@ -106,7 +100,7 @@ int SelfCollision::parts_for(double motion) const {
 
 int64_t SelfCollision::bytes() const {
   return heap_bytes(edges_, face_boxes_, edge_boxes_, kept_faces_, kept_edges_, contacts_, solved_,
-                    contacted_, mobility_, crossing_, zone_, zone_state_, zoned_) +
+                    held_.pairs, contacted_, mobility_, crossing_, zone_, zone_state_, zoned_) +
          face_grid_.bytes() + edge_grid_.bytes() + found_.bytes();
 }
 
@@ -215,46 +209,29 @@ SelfCollision::Stencil SelfCollision::stencil(const Contact& c, const ClothModel
                                               const std::vector<Vec3>& x) const {
   Stencil st;
   int32_t* index = st.index;
-  double* coef = st.coef;
-  Vec3& dir = st.dir;
-  double& separation = st.separation;
   if (c.kind == 0) {
     const Triangle& tri = model.triangles[c.b];
     index[0] = c.a, index[1] = tri[0], index[2] = tri[1], index[3] = tri[2];
-    const Vec3 &a = x[tri[0]], &b = x[tri[1]], &cc = x[tri[2]];
-    const TrianglePoint q = over_face(x[c.a], a, b, cc, kFaceMargin);
-    coef[0] = 1.0, coef[1] = -q.wa, coef[2] = -q.wb, coef[3] = -q.wc;
-    // Pushed along the triangle's normal only, so contacts never squeeze the cloth in its own
-    // plane; a vertex beside the face is left to the edge–edge contacts of its edges.
-    if (!q.interior) return st;
-    const Vec3 normal = (b - a).cross(cc - a);
-    const double length = normal.norm();
-    if (!(length > 0.0)) return st;
-    const Vec3 d = x[c.a] - (q.wa * a + q.wb * b + q.wc * cc);
-    // Kept on the side of the plane it started the frame on (when it was close then).
-    const double side = start_side(c.a, tri, start, kReach * thickness_);
-    dir = sign_or(side, sign_or(normal.dot(d), 1.0)) * normal / length;
-    separation = dir.dot(d);
   } else {
-    const auto [i, j] = edges_[c.a];
-    const auto [k, l] = edges_[c.b];
-    index[0] = i, index[1] = j, index[2] = k, index[3] = l;
-    const SegmentPoints sp = closest_between_segments(x[i], x[j], x[k], x[l]);
-    if (!sp.interior) return st;  // a corner: the vertex–triangle contacts' business
-    // Pushed along the normal of both edges (Bridson et al. 2002): the offset between the
-    // nearest points turns wildly as two edges nearly touch. Nearly parallel edges have no
-    // such normal; the vertex–triangle contacts of their ends hold them apart.
-    const Vec3 e = x[j] - x[i], f = x[l] - x[k];
-    const Vec3 normal = e.cross(f);
-    const double length = normal.norm();
-    if (!(length > kLeastSine * e.norm() * f.norm())) return st;
-    coef[0] = 1 - sp.s, coef[1] = sp.s, coef[2] = -(1 - sp.t), coef[3] = -sp.t;
-    const Vec3 d = coef[0] * x[i] + coef[1] * x[j] + coef[2] * x[k] + coef[3] * x[l];
-    // Toward the side they started the frame on (when close then).
-    const Vec3 d0 = start_offset(edges_[c.a], edges_[c.b], start, kReach * thickness_);
-    dir = sign_or(normal.dot(d0), sign_or(normal.dot(d), 1.0)) * normal / length;
-    separation = dir.dot(d);
+    index[0] = edges_[c.a][0], index[1] = edges_[c.a][1];
+    index[2] = edges_[c.b][0], index[3] = edges_[c.b][1];
   }
+  Vec3 p[4];
+  for (int k = 0; k < 4; ++k) p[k] = x[index[k]];
+  const LayerStencil layer = layer_stencil(c.kind, p);
+  std::copy(layer.coef, layer.coef + 4, st.coef);
+  if (!layer.valid) return st;
+  Vec3 d = Vec3::Zero();
+  for (int k = 0; k < 4; ++k) d += st.coef[k] * p[k];
+  // Kept on the side the pair started the frame on (when it was close then): a vertex on its
+  // side of the triangle's plane, two edges their nearest points' offset.
+  const double reach = kReach * thickness_;
+  const double start_sign =
+      c.kind == 0 ? start_side(c.a, model.triangles[c.b], start, reach)
+                  : layer.normal.dot(start_offset(edges_[c.a], edges_[c.b], start, reach));
+  st.side = sign_or(start_sign, sign_or(layer.normal.dot(d), 1.0));
+  st.dir = st.side * layer.normal;
+  st.separation = st.dir.dot(d);
   st.valid = true;
   return st;
 }
@@ -404,14 +381,8 @@ bool SelfCollision::remove_crossings(const ClothModel& model, const std::vector<
   return true;
 }
 
-bool SelfCollision::resolve(const ClothModel& model, const std::vector<Vec3>& start,
-                            const std::vector<Collider>& colliders, double dt, ClothState& state) {
-  report_ = {};
-  solved_ = state.x;
-  // Last frame's zones, undone.
-  for (const int32_t v : zoned_) zone_[v] = v, zone_state_[v] = 0;
-  zoned_.clear();
-
+void SelfCollision::ground(const ClothModel& model, const ClothState& state,
+                           const std::vector<Collider>& colliders) {
   // Particles resting on a collider do not give way to the layers above them (mass scaling
   // for stacks, as in Guendelman et al. 2003's shock propagation): the upper layer takes the
   // whole push, and no contact drives a lower layer into the ground.
@@ -423,6 +394,40 @@ bool SelfCollision::resolve(const ClothModel& model, const std::vector<Vec3>& st
       if (signed_distance(col, state.x[i], normal) - col.thickness < kGrounded * thickness_)
         mobility_[i] = 0.0;
   }
+}
+
+const HeldLayers& SelfCollision::hold_layers(const ClothModel& model, const ClothState& state,
+                                             const std::vector<Collider>& colliders) {
+  held_.thickness = thickness_;
+  held_.friction = friction_;
+  held_.pairs.clear();
+  if (contacts_.empty()) return held_;
+  ground(model, state, colliders);
+  for (const Contact& c : contacts_) {
+    const Stencil st = stencil(c, model, state.x, state.x);
+    if (!st.valid || !(st.separation < kReach * thickness_)) continue;
+    HeldLayers::Pair pair;
+    pair.kind = c.kind;
+    pair.side = st.side > 0.0 ? 1 : -1;
+    pair.grounded = 0;
+    for (int k = 0; k < 4; ++k) {
+      pair.index[k] = st.index[k];
+      if (mobility_[st.index[k]] == 0.0) pair.grounded |= uint8_t(1u << k);
+    }
+    held_.pairs.push_back(pair);
+  }
+  return held_;
+}
+
+bool SelfCollision::resolve(const ClothModel& model, const std::vector<Vec3>& start,
+                            const std::vector<Collider>& colliders, double dt, ClothState& state) {
+  report_ = {};
+  solved_ = state.x;
+  // Last frame's zones, undone.
+  for (const int32_t v : zoned_) zone_[v] = v, zone_state_[v] = 0;
+  zoned_.clear();
+
+  ground(model, state, colliders);
   find_contacts(model, start, state.x);
   report_.contacts = static_cast<int64_t>(contacts_.size());
   bool changed = false;

@@ -32,6 +32,7 @@
 #include "drape/cloth.h"
 #include "drape/collider.h"
 #include "drape/simulation.h"
+#include "layer_contact.h"
 
 namespace drape {
 
@@ -61,6 +62,12 @@ class SelfCollision {
   /// one or rippling where it lies in one layer.
   double near_motion() const { return near_motion_; }
 
+  /// The last resolve()'s pairs still within reach of each other in `state` (the state it
+  /// left, the next part's start), each on the side it lies on, for the solver to hold apart
+  /// inside its substeps (HeldLayers); particles on a `colliders` surface do not give way.
+  const HeldLayers& hold_layers(const ClothModel& model, const ClothState& state,
+                                const std::vector<Collider>& colliders);
+
   const SelfCollisionReport& report() const { return report_; }
   double thickness() const { return thickness_; }
   int64_t bytes() const;
@@ -78,6 +85,7 @@ class SelfCollision {
     int32_t index[4];
     double coef[4];
     Vec3 dir;
+    double side = 1.0;  ///< dir is side × the LayerStencil's normal
     double separation = 0.0;
     bool valid = false;  ///< false where no direction is defined (degenerate)
   };
@@ -86,6 +94,9 @@ class SelfCollision {
   /// Fills the inverse masses a contact moves its four particles with (mobility_, or the plain
   /// ones where grounding would leave too little free) and returns Σ coef²·mobility.
   double mobilities(const Stencil& st, const ClothState& state, double mobility[4]) const;
+  /// mobility_: each particle's inverse mass, zero where it rests on a collider.
+  void ground(const ClothModel& model, const ClothState& state,
+              const std::vector<Collider>& colliders);
   void find_contacts(const ClothModel& model, const std::vector<Vec3>& start,
                      const std::vector<Vec3>& x);
   void push_apart(const Contact& c, const ClothModel& model, const std::vector<Vec3>& start,
@@ -105,6 +116,7 @@ class SelfCollision {
   std::vector<Vec3> solved_;      ///< the positions the solver left, for the velocity change
   std::vector<double> mobility_;  ///< per particle, the inverse mass contacts move it with
   std::vector<Vec3> contacted_;   ///< the positions the contacts left, for zones' momenta
+  HeldLayers held_;
   CrossingFinder crossing_finder_;
   std::vector<TrianglePair> crossing_;
   std::vector<int32_t> zone_;        ///< union–find parent per vertex (itself: a root)

@@ -9,6 +9,7 @@
 
 #include "collision/collider_set.h"
 #include "collision/feature_contacts.h"
+#include "collision/layer_contact.h"
 #include "drape/cloth.h"
 #include "drape/collider.h"
 #include "drape/scene.h"
@@ -33,6 +34,9 @@ struct World {
   /// The cloth's pairs with boxes' and meshes' sharp features this frame; null when none can
   /// meet. Each method applies it after its particle contacts.
   const FeatureContacts* features = nullptr;
+  /// With self-collision: the layers the stage left touching, to hold apart in each substep
+  /// before the colliders' contacts; null when there are none or the method does not (xpbd does).
+  const HeldLayers* held = nullptr;
 
   /// Whether pose_colliders does anything (some collider moves).
   bool colliders_move() const { return moving != nullptr; }

@@ -174,7 +174,8 @@ class GridXpbd final : public Solver {
           }
           if (attached_) apply_attachments();
         }
-        finish_substep(w.colliders, h, triangles, w.features);
+        finish_substep(w.colliders, h, triangles, w.features,
+                       w.held && HeldLayers::due(k, steps) ? w.held : nullptr);
       }
 #pragma omp for schedule(static)
       for (int32_t i = 0; i < n; ++i) particles_.write(s, i, grid_.slot(i));
@@ -822,10 +823,15 @@ class GridXpbd final : public Solver {
     particles_.contacts(colliders, r * grid_.stride, (r + 1) * grid_.stride);
   }
 
-  // Contacts, then v = move/h; with `triangles`, the triangles against moving bodies between
-  // the two, and so the pairs with sharp features where there are `features`.
+  // The layers `held` apart, contacts, then v = move/h; with `triangles`, the triangles
+  // against moving bodies between the two, and so the pairs with sharp features where there
+  // are `features`.
   void finish_substep(const std::vector<Collider>& colliders, Real h, bool triangles,
-                      const FeatureContacts* features) {
+                      const FeatureContacts* features, const HeldLayers* held) {
+    if (held) {
+#pragma omp single
+      particles_.held_layers(*held, [&](int32_t i) { return grid_.slot(i); });
+    }
     if (triangles || features) {
       resolve_contacts(colliders);
 #pragma omp single

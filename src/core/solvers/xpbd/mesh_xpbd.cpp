@@ -457,8 +457,13 @@ class MeshXpbd final : public Solver {
               particles_.attachments(b * kBlock, (b + 1) * kBlock);
           }
         }
-        // The triangles against moving bodies and the pairs with sharp features, after the
-        // contacts.
+        // The layers self-collision left touching, held apart before the contacts (which
+        // then keep the lower layer on the ground); the triangles against moving bodies and
+        // the pairs with sharp features, after them.
+        if (w.held && HeldLayers::due(k, steps)) {
+#pragma omp single
+          particles_.held_layers(*w.held, [](int32_t i) { return i; });
+        }
         const bool after = triangles || w.features;
         if (after) {
 #pragma omp for schedule(static)

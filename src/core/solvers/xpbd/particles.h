@@ -11,6 +11,7 @@
 
 #include "chains.h"
 #include "collision/feature_contacts.h"
+#include "collision/layer_contact.h"
 #include "collision/triangle_contact.h"
 #include "drape/collider.h"
 #include "forces.h"
@@ -351,6 +352,14 @@ class Particles {
     features.apply(colliders, cloth);
   }
 
+  // The layers self-collision left touching (collision/layer_contact.h), held apart, `slot`
+  // mapping a particle to its slot; serial.
+  template <typename Slot>
+  void held_layers(const HeldLayers& held, Slot slot) {
+    SlotCloth<Slot> cloth{*this, slot};
+    held.apply(cloth);
+  }
+
   // The velocities over slots [begin, end): v = (move − the rounding it started with)/h, the
   // second part left in v by predict().
   void velocities(Real h, int32_t begin, int32_t end) {
@@ -380,6 +389,11 @@ class Particles {
     Particles& p;
     const Slot& slot;
     Vec3 position(int32_t i) const { return p.position(slot(i)); }
+    double inv_mass(int32_t i) const { return double(p.inv_mass[slot(i)]); }
+    Vec3 moved(int32_t i) const {
+      const int32_t c = slot(i);
+      return Vec3(p.move.x[c], p.move.y[c], p.move.z[c]);
+    }
     // The push, then friction on positions as the particle contacts have it: the point's
     // slide over the surface this substep is cancelled within friction·depth, else
     // shortened by it.
@@ -391,19 +405,27 @@ class Particles {
       Vec3 point = Vec3::Zero(), slide = Vec3::Zero();
       for (int k = 0; k < push.count; ++k) {
         const int32_t c = slot(push.index[k]);
-        add(c, moves[k]);
+        add_at(c, moves[k]);
         point += push.w[k] * p.position(c);
         slide += push.w[k] * Vec3(p.move.x[c], p.move.y[c], p.move.z[c]);
       }
       const Vec3 held =
           friction_change(slide - col.surface_move(point), push.n, col.friction, push.depth);
       for (int k = 0; k < push.count; ++k)
-        add(slot(push.index[k]), (-push.w[k] * inverse_mass(push.index[k]) / sum) * held);
+        add_at(slot(push.index[k]), (-push.w[k] * inverse_mass(push.index[k]) / sum) * held);
     }
-    void add(int32_t c, const Vec3& d) {
+    void add_at(int32_t c, const Vec3& d) {
       p.move.x[c] += static_cast<Real>(d.x());
       p.move.y[c] += static_cast<Real>(d.y());
       p.move.z[c] += static_cast<Real>(d.z());
+    }
+    // Particle i's move (a velocity), or where it started the substep too (none).
+    void add(int32_t i, const Vec3& d) { add_at(slot(i), d); }
+    void shift(int32_t i, const Vec3& d) {
+      const int32_t c = slot(i);
+      p.base.x[c] += static_cast<Real>(d.x());
+      p.base.y[c] += static_cast<Real>(d.y());
+      p.base.z[c] += static_cast<Real>(d.z());
     }
   };
 
