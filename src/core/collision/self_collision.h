@@ -17,6 +17,9 @@
 //  3. Last resort: zones that still cross after a few rounds stay where they started the frame,
 //     at rest. Frozen triangles cannot cross each other (they did not at the start), and every
 //     round freezes at least one more vertex, so the loop ends with no crossing pair.
+//  4. Held in the solve: the pairs left within reach go to the solver for the next part
+//     (hold_layers; collision/layer_contact.h), which keeps them a thickness apart inside its
+//     substeps, so that layers resting on each other rest in the solve.
 //
 // Velocities change with the positions (Δx/dt: contacts end inelastic), rigid zones take the
 // zone's velocity, frozen vertices stop. The promise holds when the frame starts free of

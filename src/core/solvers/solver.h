@@ -34,8 +34,9 @@ struct World {
   /// The cloth's pairs with boxes' and meshes' sharp features this frame; null when none can
   /// meet. Each method applies it after its particle contacts.
   const FeatureContacts* features = nullptr;
-  /// With self-collision: the layers the stage left touching, to hold apart in each substep
-  /// before the colliders' contacts; null when there are none or the method does not (xpbd does).
+  /// With self-collision: the layers the stage left touching, to hold apart in the substeps
+  /// (HeldLayers::due) before the colliders' contacts; null when there are none. xpbd holds
+  /// them; the other methods leave them to the stage.
   const HeldLayers* held = nullptr;
 
   /// Whether pose_colliders does anything (some collider moves).
