@@ -224,8 +224,11 @@ void Simulation::step_with_self_collision(World& world) {
     if (move_pins(time() + dt * (part + 1) / parts, dt / parts)) solver_->state_changed();
     frame_start_ = state_.x;
     world.time = time() + dt * part / parts;
-    const HeldLayers& held = self_collision_->hold_layers(model_, state_, colliders_->contact());
-    world.held = held.any() ? &held : nullptr;
+    world.held = nullptr;
+    if (solver_->holds_layers()) {
+      const HeldLayers& held = self_collision_->hold_layers(model_, state_, colliders_->contact());
+      if (held.any()) world.held = &held;
+    }
     solve(world, dt / parts);
     // Even a part cut short is checked: the next frame starts from it.
     if (self_collision_->resolve(model_, frame_start_, colliders_->contact(), dt / parts, state_))

@@ -23,6 +23,25 @@ inline constexpr double kLeastSine = 0.1;
 // push off the ground's side alone.
 inline constexpr double kLeastShare = 0.25;
 
+/// The inverse masses a pair moves its four particles with, from their own (`inv_mass`) and
+/// which of them rest on a collider (bit k of `grounded`): resting ones do not give way to
+/// the layers above (mass scaling for stacks, as in Guendelman et al. 2003's shock
+/// propagation), unless that leaves the free ones less than kLeastShare of the pair's weight:
+/// a corner of weight 0.1 would be thrown ten times the depth, so the pair then moves as if
+/// unsupported. Returns Σ coef²·mobility.
+inline double pair_mobilities(const double coef[4], const double inv_mass[4], unsigned grounded,
+                              double mobility[4]) {
+  double weight = 0.0, free_weight = 0.0;
+  for (int k = 0; k < 4; ++k) {
+    const double c2 = coef[k] * coef[k];
+    free_weight += c2 * inv_mass[k];
+    if (!(grounded >> k & 1)) weight += c2 * inv_mass[k];
+  }
+  const bool held = weight >= kLeastShare * free_weight;
+  for (int k = 0; k < 4; ++k) mobility[k] = held && (grounded >> k & 1) ? 0.0 : inv_mass[k];
+  return held ? weight : free_weight;
+}
+
 /// A vertex–triangle pair (kind 0: x[0] the vertex, x[1..3] the triangle) or an edge–edge
 /// pair (kind 1: x[0]–x[1] and x[2]–x[3]) at positions x: its coefficients and the unit normal
 /// of the triangle ((x2 − x1) × (x3 − x1)) or of both edges ((x1 − x0) × (x3 − x2)). Not
@@ -88,8 +107,7 @@ class HeldLayers {
   /// at most kPasses evenly spread over a frame, the last always. Between two passes a layer
   /// at rest sinks by gravity's ½g·t² (a micrometre over a sixty-fourth of a frame), and each
   /// pass leaves the pairs no velocity toward each other; a pass over every pair, serial,
-  /// costs what a few of xpbd's parallel substeps do (a pass in each of the 675 substeps of
-  /// the bench's pile at 128² cost 2.7 times the frame of 64 passes).
+  /// costs what a few of xpbd's parallel substeps do (README, Self-collision, for the figures).
   static constexpr int kPasses = 64;
   static bool due(int k, int steps) {
     const int every = (steps + kPasses - 1) / kPasses;
@@ -113,19 +131,9 @@ class HeldLayers {
       for (int k = 0; k < 4; ++k) offset += st.coef[k] * x[k];
       const double separation = n.dot(offset), depth = thickness - separation;
       if (!(depth > 0.0) || separation < -thickness) continue;
-      // Grounded corners do not give way, unless the free ones carry too small a share.
-      double mobility[4], weight = 0.0, free_weight = 0.0;
-      for (int k = 0; k < 4; ++k) {
-        mobility[k] = cloth.inv_mass(p.index[k]);
-        const double c2 = st.coef[k] * st.coef[k] * mobility[k];
-        free_weight += c2;
-        if (!(p.grounded >> k & 1)) weight += c2;
-      }
-      const bool grounded = weight >= kLeastShare * free_weight;
-      if (grounded)
-        for (int k = 0; k < 4; ++k)
-          if (p.grounded >> k & 1) mobility[k] = 0.0;
-      if (!grounded) weight = free_weight;
+      double inv_mass[4], mobility[4];
+      for (int k = 0; k < 4; ++k) inv_mass[k] = cloth.inv_mass(p.index[k]);
+      const double weight = pair_mobilities(st.coef, inv_mass, p.grounded, mobility);
       if (!(weight > 0.0)) continue;
       // A grounded corner's move this substep is the ground's to undo (its contacts come
       // next): as seen from the layer above, it stays.

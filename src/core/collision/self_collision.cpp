@@ -236,20 +236,18 @@ SelfCollision::Stencil SelfCollision::stencil(const Contact& c, const ClothModel
   return st;
 }
 
+unsigned SelfCollision::grounded_bits(const int32_t index[4]) const {
+  unsigned bits = 0;
+  for (int k = 0; k < 4; ++k)
+    if (mobility_[index[k]] == 0.0) bits |= 1u << k;
+  return bits;
+}
+
 double SelfCollision::mobilities(const Stencil& st, const ClothState& state,
                                  double mobility[4]) const {
-  // A pair whose grounded corners leave it only a small share of its weight would throw that
-  // share far (a corner of weight 0.1 moves ten times the depth): it moves as if unsupported.
-  double weight = 0.0, free_weight = 0.0;
-  for (int k = 0; k < 4; ++k) {
-    const double c2 = st.coef[k] * st.coef[k];
-    weight += c2 * mobility_[st.index[k]];
-    free_weight += c2 * state.inv_mass[st.index[k]];
-  }
-  const bool grounded = weight >= kLeastShare * free_weight;
-  for (int k = 0; k < 4; ++k)
-    mobility[k] = grounded ? mobility_[st.index[k]] : state.inv_mass[st.index[k]];
-  return grounded ? weight : free_weight;
+  double inv_mass[4];
+  for (int k = 0; k < 4; ++k) inv_mass[k] = state.inv_mass[st.index[k]];
+  return pair_mobilities(st.coef, inv_mass, grounded_bits(st.index), mobility);
 }
 
 void SelfCollision::push_apart(const Contact& c, const ClothModel& model,
@@ -409,11 +407,8 @@ const HeldLayers& SelfCollision::hold_layers(const ClothModel& model, const Clot
     HeldLayers::Pair pair;
     pair.kind = c.kind;
     pair.side = st.side > 0.0 ? 1 : -1;
-    pair.grounded = 0;
-    for (int k = 0; k < 4; ++k) {
-      pair.index[k] = st.index[k];
-      if (mobility_[st.index[k]] == 0.0) pair.grounded |= uint8_t(1u << k);
-    }
+    pair.grounded = static_cast<uint8_t>(grounded_bits(st.index));
+    std::copy(st.index, st.index + 4, pair.index);
     held_.pairs.push_back(pair);
   }
   return held_;

@@ -94,9 +94,11 @@ class SelfCollision {
   };
   Stencil stencil(const Contact& c, const ClothModel& model, const std::vector<Vec3>& start,
                   const std::vector<Vec3>& x) const;
-  /// Fills the inverse masses a contact moves its four particles with (mobility_, or the plain
-  /// ones where grounding would leave too little free) and returns Σ coef²·mobility.
+  /// Fills the inverse masses a contact moves its four particles with (pair_mobilities) and
+  /// returns Σ coef²·mobility.
   double mobilities(const Stencil& st, const ClothState& state, double mobility[4]) const;
+  /// Bit k set where particle index[k] rests on a collider (mobility_ zero).
+  unsigned grounded_bits(const int32_t index[4]) const;
   /// mobility_: each particle's inverse mass, zero where it rests on a collider.
   void ground(const ClothModel& model, const ClothState& state,
               const std::vector<Collider>& colliders);

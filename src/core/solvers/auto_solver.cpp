@@ -133,6 +133,7 @@ class AutoSolver final : public Solver {
   }
 
   void state_changed() override { inner_->state_changed(); }
+  bool holds_layers() const override { return inner_->holds_layers(); }
   int substeps() const override { return inner_->substeps(); }
   int64_t workspace_bytes() const override {
     return inner_->workspace_bytes() + heap_bytes(spring_i_, spring_j_, inv_rest_, ladder_);
@@ -276,6 +277,7 @@ class MaterialAuto final : public Solver {
   int64_t workspace_bytes() const override { return inner_->workspace_bytes(); }
   bool stretch_is_energy() const override { return inner_->stretch_is_energy(); }
   bool steps_any_dt() const override { return inner_->steps_any_dt(); }
+  bool holds_layers() const override { return inner_->holds_layers(); }
   const AutoChoice* auto_choice() const override { return &choice_; }
 
  private:

@@ -35,8 +35,8 @@ struct World {
   /// meet. Each method applies it after its particle contacts.
   const FeatureContacts* features = nullptr;
   /// With self-collision: the layers the stage left touching, to hold apart in the substeps
-  /// (HeldLayers::due) before the colliders' contacts; null when there are none. xpbd holds
-  /// them; the other methods leave them to the stage.
+  /// (HeldLayers::due) before the colliders' contacts; null when there are none or the method
+  /// leaves them to the stage (Solver::holds_layers).
   const HeldLayers* held = nullptr;
 
   /// Whether pose_colliders does anything (some collider moves).
@@ -83,6 +83,9 @@ class Solver {
   /// for self-collision's collision steps). False for a method that factorised its matrix
   /// for one step.
   virtual bool steps_any_dt() const { return true; }
+  /// Whether the method holds the layers self-collision left touching apart in its substeps
+  /// (World::held); the stage gathers them only for a method that does.
+  virtual bool holds_layers() const { return false; }
   /// What the auto method chose and how often it changed it; null for the other methods.
   virtual const AutoChoice* auto_choice() const { return nullptr; }
 };

@@ -184,6 +184,9 @@ class GridXpbd final : public Solver {
     current_ = true;
   }
 
+  bool holds_layers() const override {
+    return true;
+  }
   int substeps() const override {
     return substeps_;
   }

@@ -492,6 +492,9 @@ class MeshXpbd final : public Solver {
     current_ = true;
   }
 
+  bool holds_layers() const override {
+    return true;
+  }
   int substeps() const override { return substeps_; }
   int64_t workspace_bytes() const override {
     int64_t bytes = particles_.bytes() + heap_bytes(scratch_, triangles_) + all_.bytes() +
