@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <memory>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -352,6 +353,59 @@ TEST(SelfCollision, AFrameIsSplitOnlyWhereLayersMovePastEachOther) {
   std::vector<Vec3> slid = start;
   for (size_t i = half; i < start.size(); ++i) slid[i].x() += 2.4 * h;
   EXPECT_EQ(parts_after(start, slid), 5);
+}
+
+// Where every triangle's inradius is under the reach (twice the thickness), a triangle pierced
+// by another's edge always leaves a contact for the search to find, so a frame with no contact
+// has no crossing either (the stage then skips its crossing check): no point inside a triangle
+// is farther than its inradius from all of its edges. Random triangles of 0.5 to 1.5 cm
+// (inradii up to about 0.4 cm) pierced at random points inside by an edge of random
+// direction, 2 mm thick (a reach of 4 mm); each pair crosses by the tests' own count.
+TEST(SelfCollision, EveryCrossingLeavesAContactWhereTrianglesAreSmallerThanTheReach) {
+  SceneDef def = two_sheets(1, 0.0);
+  def.colliders.clear();
+  Simulation sim(def);
+  const ClothModel& model = sim.model();
+  ASSERT_EQ(model.size(), 8);
+  const double h = 0.002;
+  SelfCollision collision;
+  collision.prepare(model, h, 0.0);
+  std::mt19937 random(7);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  auto direction = [&] {
+    Vec3 d;
+    do d = Vec3(unit(random), unit(random), unit(random));
+    while (d.norm() < 0.1 || d.norm() > 1.0);
+    return Vec3(d.normalized());
+  };
+  int checked = 0;
+  for (int k = 0; k < 2000; ++k) {
+    // The first sheet: a random small quad; triangle 0 of it is pierced.
+    std::vector<Vec3> x(8);
+    for (int v = 0; v < 4; ++v) x[v] = 0.0075 * Vec3(unit(random), unit(random), unit(random));
+    const Triangle& pierced = model.triangles[0];
+    const Vec3 &a = x[pierced[0]], &b = x[pierced[1]], &c = x[pierced[2]];
+    const double area2 = (b - a).cross(c - a).norm();
+    const double inradius = area2 / ((b - a).norm() + (c - b).norm() + (a - c).norm());
+    if (inradius < 1e-4 || inradius >= 0.999 * 2.0 * h) continue;
+    // A point inside it and an edge of the second sheet through it, its other corners away.
+    double u = std::abs(unit(random)), v = std::abs(unit(random));
+    if (u + v > 1.0) u = 1.0 - u, v = 1.0 - v;
+    const Vec3 inside = a + u * (b - a) + v * (c - a);
+    const Vec3 along = direction();
+    const Triangle& piercing = model.triangles[2];  // the second sheet's first triangle
+    x[piercing[0]] = inside - (0.002 + 0.01 * std::abs(unit(random))) * along;
+    x[piercing[1]] = inside + (0.002 + 0.01 * std::abs(unit(random))) * along;
+    for (int w = 4; w < 8; ++w)
+      if (w != piercing[0] && w != piercing[1]) x[w] = inside + 0.05 * direction();
+    if (brute_force_crossings(model.triangles, x) == 0) continue;  // grazing: not inside
+    ClothState state = sim.state();
+    state.x = x;
+    collision.resolve(model, x, {}, 1.0 / 60.0, state);
+    EXPECT_GT(collision.report().contacts, 0) << "case " << k << ", inradius " << inradius;
+    ++checked;
+  }
+  EXPECT_GT(checked, 500);
 }
 
 // A pin with a motion: its particles are where the keyed rotation about their centre puts

@@ -26,6 +26,10 @@ constexpr double kTouching = 1.01;
 // and one layer passes another before a step sees them close (measured on a crumpling pile:
 // 3 keeps its strain near the solver's own, 10 and more lets layers tangle).
 constexpr double kMotionPerPart = 0.5;
+// A crossing is certain to leave a contact where every triangle's inradius is under this share
+// of the reach (crossings_leave_contacts_): the margin is far above the round-off of the
+// segments' distance the edge pairs are found by.
+constexpr double kCrossingReach = 0.999;
 // Rounds of rigid impact zones before the last resort (zones held where they started).
 constexpr int kRigidRounds = 3;
 // Rounds in all: each freezing round freezes at least one more vertex, so this bound is never
@@ -116,6 +120,10 @@ void SelfCollision::find_contacts(const ClothModel& model, const std::vector<Vec
   const int32_t n = static_cast<int32_t>(x.size());
   kept_faces_.clear();
   face_boxes_.resize(triangles.size() + x.size());
+  // Whether every triangle's inradius r is under the reach (see crossings_leave_contacts_), by
+  // the bound r = area / semi-perimeter ≤ area / longest edge: |ab × ac|² < 4·(reach·longest)².
+  const double most = kCrossingReach * reach;
+  crossings_leave_contacts_ = true;
   for (int32_t t = 0; t < triangle_count; ++t) {
     const Triangle& tri = triangles[t];
     if (!finite_all(x[tri[0]], start[tri[0]]) || !finite_all(x[tri[1]], start[tri[1]]) ||
@@ -124,6 +132,10 @@ void SelfCollision::find_contacts(const ClothModel& model, const std::vector<Vec
     face_boxes_[t] = swept_box(reach, x[tri[0]], x[tri[1]], x[tri[2]], start[tri[0]], start[tri[1]],
                                start[tri[2]]);
     kept_faces_.push_back(t);
+    const Vec3 ab = x[tri[1]] - x[tri[0]], ac = x[tri[2]] - x[tri[0]], bc = ac - ab;
+    const double longest = std::max({ab.squaredNorm(), ac.squaredNorm(), bc.squaredNorm()});
+    crossings_leave_contacts_ =
+        crossings_leave_contacts_ && ab.cross(ac).squaredNorm() < 4.0 * most * most * longest;
   }
   for (int32_t p = 0; p < n; ++p) {
     if (!finite_all(x[p], start[p])) continue;
@@ -438,7 +450,10 @@ bool SelfCollision::resolve(const ClothModel& model, const std::vector<Vec3>& st
       }
     }
   }
-  changed = remove_crossings(model, start, dt, state) || changed;
+  // The certified check for crossings, unless the search has shown there can be none: no
+  // contact, and so nothing moved since the search, which found every crossing's edge pair.
+  if (!contacts_.empty() || !crossings_leave_contacts_)
+    changed = remove_crossings(model, start, dt, state) || changed;
   if (!changed) return false;
 
   // Velocities change with what the contacts moved (rigid and frozen vertices have theirs).

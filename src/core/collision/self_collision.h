@@ -112,6 +112,11 @@ class SelfCollision {
   double thickness_ = 0.0;
   double friction_ = 0.0;
   double near_motion_ = 0.0;
+  /// Set by find_contacts: every triangle's inradius is under the reach at the frame's end. An
+  /// edge of one triangle through another's inside then passes within that inradius of the
+  /// other's nearest edge (no point inside a triangle is farther from all its edges), a pair
+  /// sharing no vertex: a crossing leaves an edge–edge contact, and no contact means none.
+  bool crossings_leave_contacts_ = false;
   std::vector<std::array<int32_t, 2>> edges_;
   std::vector<Box> face_boxes_, edge_boxes_;  ///< face_boxes_: the triangles', then the vertices'
   std::vector<int32_t> kept_faces_, kept_edges_;
