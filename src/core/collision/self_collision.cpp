@@ -118,40 +118,50 @@ void SelfCollision::find_contacts(const ClothModel& model, const std::vector<Vec
   // that each cell lists its triangles, then its vertices.
   const int32_t triangle_count = static_cast<int32_t>(triangles.size());
   const int32_t n = static_cast<int32_t>(x.size());
-  kept_faces_.clear();
-  face_boxes_.resize(triangles.size() + x.size());
-  // Whether every triangle's inradius r is under the reach (see crossings_leave_contacts_), by
-  // the bound r = area / semi-perimeter ≤ area / longest edge: |ab × ac|² < 4·(reach·longest)².
-  const double most = kCrossingReach * reach;
-  crossings_leave_contacts_ = true;
-  for (int32_t t = 0; t < triangle_count; ++t) {
-    const Triangle& tri = triangles[t];
-    if (!finite_all(x[tri[0]], start[tri[0]]) || !finite_all(x[tri[1]], start[tri[1]]) ||
-        !finite_all(x[tri[2]], start[tri[2]]))
-      continue;
-    face_boxes_[t] = swept_box(reach, x[tri[0]], x[tri[1]], x[tri[2]], start[tri[0]], start[tri[1]],
-                               start[tri[2]]);
-    kept_faces_.push_back(t);
-    const Vec3 ab = x[tri[1]] - x[tri[0]], ac = x[tri[2]] - x[tri[0]], bc = ac - ab;
-    const double longest = std::max({ab.squaredNorm(), ac.squaredNorm(), bc.squaredNorm()});
-    crossings_leave_contacts_ =
-        crossings_leave_contacts_ && ab.cross(ac).squaredNorm() < 4.0 * most * most * longest;
+  // The two grids are built side by side, each by one thread (the same either way).
+#pragma omp parallel sections if (worth_threads(n))
+  {
+#pragma omp section
+    {
+      kept_faces_.clear();
+      face_boxes_.resize(triangles.size() + x.size());
+      // Whether every triangle's inradius r is under the reach (crossings_leave_contacts_), by
+      // the bound r = area / semi-perimeter ≤ area / longest edge: |ab × ac|² < 4·(reach·longest)².
+      const double most = kCrossingReach * reach;
+      bool small = true;
+      for (int32_t t = 0; t < triangle_count; ++t) {
+        const Triangle& tri = triangles[t];
+        if (!finite_all(x[tri[0]], start[tri[0]]) || !finite_all(x[tri[1]], start[tri[1]]) ||
+            !finite_all(x[tri[2]], start[tri[2]]))
+          continue;
+        face_boxes_[t] = swept_box(reach, x[tri[0]], x[tri[1]], x[tri[2]], start[tri[0]],
+                                   start[tri[1]], start[tri[2]]);
+        kept_faces_.push_back(t);
+        const Vec3 ab = x[tri[1]] - x[tri[0]], ac = x[tri[2]] - x[tri[0]], bc = ac - ab;
+        const double longest = std::max({ab.squaredNorm(), ac.squaredNorm(), bc.squaredNorm()});
+        small = small && ab.cross(ac).squaredNorm() < 4.0 * most * most * longest;
+      }
+      crossings_leave_contacts_ = small;
+      for (int32_t p = 0; p < n; ++p) {
+        if (!finite_all(x[p], start[p])) continue;
+        face_boxes_[triangle_count + p] = swept_box(0.0, x[p], start[p]);
+        kept_faces_.push_back(triangle_count + p);
+      }
+      face_grid_.build(face_boxes_, kept_faces_);
+    }
+#pragma omp section
+    {
+      kept_edges_.clear();
+      edge_boxes_.resize(edges_.size());
+      for (size_t e = 0; e < edges_.size(); ++e) {
+        const auto [i, j] = edges_[e];
+        if (!finite_all(x[i], start[i]) || !finite_all(x[j], start[j])) continue;
+        edge_boxes_[e] = swept_box(0.5 * reach, x[i], x[j], start[i], start[j]);
+        kept_edges_.push_back(static_cast<int32_t>(e));
+      }
+      edge_grid_.build(edge_boxes_, kept_edges_);
+    }
   }
-  for (int32_t p = 0; p < n; ++p) {
-    if (!finite_all(x[p], start[p])) continue;
-    face_boxes_[triangle_count + p] = swept_box(0.0, x[p], start[p]);
-    kept_faces_.push_back(triangle_count + p);
-  }
-  kept_edges_.clear();
-  edge_boxes_.resize(edges_.size());
-  for (size_t e = 0; e < edges_.size(); ++e) {
-    const auto [i, j] = edges_[e];
-    if (!finite_all(x[i], start[i]) || !finite_all(x[j], start[j])) continue;
-    edge_boxes_[e] = swept_box(0.5 * reach, x[i], x[j], start[i], start[j]);
-    kept_edges_.push_back(static_cast<int32_t>(e));
-  }
-  face_grid_.build(face_boxes_, kept_faces_);
-  edge_grid_.build(edge_boxes_, kept_edges_);
 
   // A vertex and a triangle are a contact when within reach at the end of the frame, or when
   // the vertex changed sides of the triangle's plane while over its face.
