@@ -69,20 +69,45 @@ class BoxGrid {
 
  private:
   /// f(s, t) for the entries u in [begin, middle) and w in [middle, end) of cell c, or w after
-  /// u when `within`, whose boxes overlap and which c reports. Everything the loops read is
-  /// held in locals: f writes memory, after which members would be read again.
+  /// u when `within`, whose boxes overlap and which c reports. The cell's boxes are first copied
+  /// side by side (each thread its own copy), so that the overlap tests of one box against the
+  /// rest run as one vectorised loop whose hits are then visited: tested one by one, with a
+  /// branch each and the boxes read where they lie, they took most of self-collision's search.
   template <class F>
   void pairs(int64_t c, int64_t begin, int64_t middle, int64_t end, F& f, bool within) const {
+    const int32_t count = static_cast<int32_t>(end - begin);
+    const int32_t first_w = static_cast<int32_t>(middle - begin);
+    thread_local std::vector<double> corners;
+    thread_local std::vector<int32_t> ids;
+    thread_local std::vector<uint8_t> hit;
+    corners.resize(6 * static_cast<size_t>(count));
+    ids.resize(count);
+    hit.resize(count);
+    // The lower corners' x, y, z, then the upper ones', each `count` long.
+    double* const lx = corners.data();
+    double* const ly = lx + count;
+    double* const lz = ly + count;
+    double* const hx = lz + count;
+    double* const hy = hx + count;
+    double* const hz = hy + count;
     const Box* box = boxes_->data();
-    const uint64_t* entries = entry_.data();
-    const uint64_t mask = box_mask_;
-    for (int64_t u = begin; u < middle; ++u) {
-      const int32_t s = static_cast<int32_t>(entries[u] & mask);
-      const Box a = box[s];
-      for (int64_t w = within ? u + 1 : middle; w < end; ++w) {
-        const int32_t t = static_cast<int32_t>(entries[w] & mask);
-        if (overlap(a, box[t]) && reports_pair_in(c, s, t)) f(s, t);
-      }
+    for (int32_t k = 0; k < count; ++k) {
+      const int32_t t = entry(begin + k);
+      ids[k] = t;
+      lx[k] = box[t].lo.x(), ly[k] = box[t].lo.y(), lz[k] = box[t].lo.z();
+      hx[k] = box[t].hi.x(), hy[k] = box[t].hi.y(), hz[k] = box[t].hi.z();
+    }
+    uint8_t* const overlaps = hit.data();
+    for (int32_t u = 0; u < first_w; ++u) {
+      const double ax = lx[u], ay = ly[u], az = lz[u], bx = hx[u], by = hy[u], bz = hz[u];
+      const int32_t w0 = within ? u + 1 : first_w;
+#pragma omp simd
+      for (int32_t w = w0; w < count; ++w)
+        overlaps[w] = (ax <= hx[w]) & (lx[w] <= bx) & (ay <= hy[w]) & (ly[w] <= by) &
+                      (az <= hz[w]) & (lz[w] <= bz);
+      const int32_t s = ids[u];
+      for (int32_t w = w0; w < count; ++w)
+        if (overlaps[w] && reports_pair_in(c, s, ids[w])) f(s, ids[w]);
     }
   }
   uint32_t coordinate(double v, int axis) const;
