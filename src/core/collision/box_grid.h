@@ -15,10 +15,6 @@ struct Box {
   Vec3 lo, hi;
 };
 
-inline bool overlap(const Box& a, const Box& b) {
-  return (a.lo.array() <= b.hi.array()).all() && (b.lo.array() <= a.hi.array()).all();
-}
-
 /// Boxes entered in the cells of a uniform grid they overlap: cell (i, j, k) covers
 /// origin + cell·[i, i+1) × [j, j+1) × [k, k+1). Cells are about as wide as a mean box, so a
 /// typical box enters at most eight, and work grows with the boxes and the pairs that share a
@@ -73,6 +69,9 @@ class BoxGrid {
   /// side by side (each thread its own copy), so that the overlap tests of one box against the
   /// rest run as one vectorised loop whose hits are then visited: tested one by one, with a
   /// branch each and the boxes read where they lie, they took most of self-collision's search.
+  /// The copies only grow, as the grid's own arrays do: a frame allocates only for a cell
+  /// fuller than any before on its thread. Two boxes overlap where lo ≤ the other's hi on every
+  /// axis.
   template <class F>
   void pairs(int64_t c, int64_t begin, int64_t middle, int64_t end, F& f, bool within) const {
     const int32_t count = static_cast<int32_t>(end - begin);
