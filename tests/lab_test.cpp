@@ -4,6 +4,7 @@
 // textile literature says (stiffer drapes less; 4 to 10 folds).
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <cmath>
 #include <cstdio>
 #include <numbers>
@@ -73,6 +74,33 @@ TEST(LabCantilever, RefusesASceneThatIsNotTheTest) {
   def = cantilever("denim", 20);
   def.cloth.pins.clear();
   EXPECT_THROW(lab::run_cantilever(def), InputError);
+}
+
+// Both tests stop when their stop flag goes up (Ctrl-C or SIGTERM in `drape lab`), with the
+// lab's own method, implicit at one substep a frame: a frame it starts it finishes, so the
+// stop must be seen between frames. (Before, the cantilever went on to its end: at 160 cells,
+// past a quarter of an hour after SIGTERM.)
+TEST(LabStop, BothTestsStopWithinAFrameOfTheFlag) {
+  std::atomic<bool> stop{false};
+  int frames = 0;
+  const lab::CantileverResult c =
+      lab::run_cantilever(cantilever("knit", 20), {}, &stop);  // a run to compare: it measures
+  EXPECT_TRUE(c.reached);
+  EXPECT_FALSE(c.stopped);
+  stop = true;
+  const lab::CantileverResult s = lab::run_cantilever(cantilever("knit", 20), {}, &stop);
+  EXPECT_TRUE(s.stopped);
+  EXPECT_FALSE(s.reached);
+  EXPECT_TRUE(s.stages.empty());
+
+  SceneDef def =
+      io::parse_scene(lab::cusick_scene(io::material_json(*material_preset("knit"))), "test");
+  lab::use_cusick_specimen(def, 8);
+  const lab::CusickResult r = lab::run_cusick(
+      def, 8.0, [&](int done, int) { frames = done; }, &stop);
+  EXPECT_TRUE(r.stopped);
+  EXPECT_LE(r.frames, 1);
+  EXPECT_LE(frames, 1);
 }
 
 // A flat disc of the specimen's radius, shaped radially: every point at radius r > the

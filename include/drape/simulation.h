@@ -103,6 +103,9 @@ class Simulation {
   void set_stop_flag(const std::atomic<bool>* flag) { stop_ = flag; }
   /// The last step() stopped part way through its frame.
   bool stopped() const { return stopped_; }
+  /// The stop flag is up. A method with one substep a frame finishes every frame it starts, so
+  /// a caller stepping until something happens asks this as well as stopped().
+  bool stop_requested() const { return stop_ && stop_->load(std::memory_order_relaxed); }
 
   bool diverged() const { return !divergence_.empty(); }
   const std::string& divergence() const { return divergence_; }  ///< why, with a hint

@@ -8,7 +8,7 @@ Settled settle(Simulation& sim, double speed, int least, int most,
   int calm = 0;
   const double speed2 = speed * speed;
   while (out.frames < most) {
-    if (!sim.step()) {
+    if (!sim.step() || sim.stopped() || sim.stop_requested()) {
       out.failed = true;
       return out;
     }

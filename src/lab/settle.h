@@ -23,7 +23,7 @@ Settled settle(Simulation& sim, double speed, int least, int most,
 /// failed settle: interrupted, or blown up at a frame, with the simulation's message.
 template <class Result>
 void record_failure(const Simulation& sim, Result& out) {
-  out.stopped = sim.stopped();
+  out.stopped = sim.stopped() || sim.stop_requested();
   out.diverged = sim.diverged();
   out.diverged_frame = sim.diverged_frame();
   out.message = sim.divergence();
