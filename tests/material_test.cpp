@@ -391,14 +391,16 @@ TEST(MaterialConvergence, DenimOverTheSphereEndsInTheSameShapeAt32_64And128Cells
   EXPECT_NEAR(fine.low_y, coarse.low_y, 0.01);
 }
 
-// A stiff and a soft preset, each held to 5% at three resolutions (the figures are in the
+// A stiff and a soft preset, each held to 5% from coarse to fine (the figures are in the
 // README). The knit's stretch (16.6 N/m) is two orders below the others'; before its grid took
 // the shear its threads allow (model::grid_shear) it stretched 11% along the strip and sagged 9%
-// more. 32 implicit substeps a frame: with one, the rotation of springs with k·h²/m ≫ 1 is
-// damped so hard by the single Newton step that a fine strip creeps toward rest for many
-// seconds; at 64 cells even 32 substeps leave it short after 4 s (−30%). xpbd at its automatic
-// substeps (with the material's damping inside its projections it sagged 15% too far at 32
-// cells: see solvers/xpbd/mesh_xpbd.cpp).
+// more. The strip feels the air a scene file gives a material's cloth (drag by area, none per
+// particle): the seed's drag per particle, the default of a SceneDef built in code, holds a
+// fine strip's light particles back so hard that at 64 cells it was 57% short after 4 s.
+// `implicit` at its one substep a frame comes to rest within 2 s; `xpbd` at its automatic
+// substeps does not come to rest (the tip wanders by about 1% for as long as it runs: see the
+// README), so the drop is the mean over the last 2 of 8 s, for both. `xpbd` is left out at 64
+// cells for its cost (2164 substeps a frame).
 struct StripCase {
   const char* preset;
   double length;  // m, long enough for a drop of about two thirds of it
@@ -406,7 +408,7 @@ struct StripCase {
 
 class Elastica : public ::testing::TestWithParam<StripCase> {};
 
-TEST_P(Elastica, AClampedStripSagsAsTheShootingSolutionAtThreeResolutions) {
+TEST_P(Elastica, AClampedStripSagsAsTheShootingSolutionFromCoarseToFine) {
   // Peirce's cantilever: a strip along the warp (u), its first two columns pinned (the clamp,
   // so θ(0) = 0 at the second), its free length L beyond them.
   const char* preset = GetParam().preset;
@@ -414,7 +416,8 @@ TEST_P(Elastica, AClampedStripSagsAsTheShootingSolutionAtThreeResolutions) {
   const MaterialDef mat = *material_preset(preset);
   const double w = mat.density * 9.81, B = mat.bending.x();
   for (Method method : {Method::implicit, Method::xpbd})
-    for (int cells : {8, 16, 32}) {
+    for (int cells : {8, 16, 32, 64}) {
+      if (method == Method::xpbd && cells == 64) continue;
       const double dx = L / cells;
       // The clamp holds the segment between the last two pinned columns level: the strip is
       // clamped at its middle, half a cell before the second column.
@@ -424,22 +427,24 @@ TEST_P(Elastica, AClampedStripSagsAsTheShootingSolutionAtThreeResolutions) {
       def.cloth.pins.clear();
       for (int r = 0; r < 4; ++r)
         def.cloth.pins.push_back({0, r}), def.cloth.pins.push_back({1, r});
+      def.forces.air_drag = 0.0;
+      def.forces.air_density = 1.225;
       def.solver.method = method;
-      if (method == Method::implicit) {
-        def.solver.substeps = 32;
-        def.solver.cg_tolerance = 1e-8;
-      }
       Simulation sim(def);
-      for (int f = 0; f < 240; ++f) ASSERT_TRUE(sim.step());
-      const int cols = cells + 2;
-      double tip = 0.0;
-      for (int r = 0; r < 4; ++r) tip += sim.state().x[sim.model().index(cols - 1, r)].y();
-      const double drop = 1.0 - tip / 4.0;
+      const int cols = cells + 2, frames = 480, averaged = 120;
+      double drop = 0.0;
+      for (int f = 0; f < frames; ++f) {
+        ASSERT_TRUE(sim.step());
+        if (f < frames - averaged) continue;
+        double tip = 0.0;
+        for (int r = 0; r < 4; ++r) tip += sim.state().x[sim.model().index(cols - 1, r)].y();
+        drop += (1.0 - tip / 4.0) / averaged;
+      }
       std::printf(
           "elastica %s %s L=%.3f %d cells, %d substeps: tip drop %.5f m, shooting %.5f m "
-          "(%+.2f%%)\n",
+          "(%+.2f%%), kinetic energy at 8 s %.3g J\n",
           to_string(method), preset, L, cells, sim.substeps_per_frame(), drop, expected,
-          100.0 * (drop / expected - 1.0));
+          100.0 * (drop / expected - 1.0), sim.diagnostics().kinetic_energy);
       EXPECT_NEAR(drop / expected, 1.0, 0.05) << to_string(method) << " " << preset << " " << cells;
     }
 }
