@@ -37,6 +37,7 @@
 #include "long_range.h"
 #include "parallel.h"
 #include "solver.h"
+#include "sparse_bytes.h"
 
 namespace drape {
 
@@ -183,11 +184,8 @@ class Fast final : public Solver {
   int64_t workspace_bytes() const override {
     // The factor L and the system matrix kept for refactorising (with its diagonal); the
     // factorisation keeps a few more integers per unknown (permutations, elimination tree).
-    const auto& factor = llt_.matrixL().nestedExpression();
-    const int64_t factor_bytes =
-        sparse_bytes(factor) + factor.outerSize() * 4 * int64_t{sizeof(int)};
     const int64_t matrix_bytes = sparse_bytes(A_) + diagonal_.size() * int64_t{sizeof(double)};
-    return factor_bytes + matrix_bytes + X_.size() * int64_t{sizeof(double)} +
+    return factor_bytes(llt_) + matrix_bytes + X_.size() * int64_t{sizeof(double)} +
            heap_bytes(held_, held_now_, free_, perm_, x0_, y_, xk_, xkm1_, b0_, rhs_, force_,
                       contact_n_, contact_surface_, contact_dvn_, contact_mu_);
   }
@@ -320,13 +318,6 @@ class Fast final : public Solver {
       X_(row, 1) = rhs_[i].y();
       X_(row, 2) = rhs_[i].z();
     }
-  }
-
-  // Heap bytes of a compressed sparse matrix: a value and an index per non-zero, and the outer
-  // pointers.
-  static int64_t sparse_bytes(const Eigen::SparseMatrix<double>& a) {
-    return a.nonZeros() * int64_t{sizeof(double) + sizeof(int)} +
-           (a.outerSize() + 1) * int64_t{sizeof(int)};
   }
 
   // The system matrix with the contact term on the particles in held_now_ (its pattern, and so

@@ -54,8 +54,8 @@ template <bool kUnilateral, bool kDamped, bool kSoftened = false, typename Real>
 
 /// One XPBD isometric bending constraint (forces/bending.h) on corners v[0..3] with weights
 /// wt[0..3]: the curvature vector C = Σ_k w_k·x_k, linear in the positions, with a spring's
-/// compliance α̃ = 1/(k·h²); its damping is taken on the velocities (damp_bend). Its gradient
-/// on corner k is w_k·I, so J·M⁻¹·Jᵀ = W·I with W = Σ_k w_k²/m_k and one projection is
+/// compliance α̃ = 1/(k·h²); its damping is taken on the velocities (forces::BendingDamping). Its
+/// gradient on corner k is w_k·I, so J·M⁻¹·Jᵀ = W·I with W = Σ_k w_k²/m_k and one projection is
 ///   Δλ = (−C − α̃λ) / (W + α̃),   m_k += (w_k/m_k)·Δλ,
 /// λ (a vector) the multiplier so far. Positions as xpbd_project's, b + m; the weights sum to
 /// zero, so C = Σ_{k≥1} w_k·((b_k − b_0) + (m_k − m_0)) carries the round-off of the element's
@@ -110,26 +110,6 @@ template <typename Real>
   const Real p = len2 > 0 ? -hc * u / ((1 + hc * (wi + wj)) * len2) : Real(0);
   vx[i] -= wi * p * dx, vy[i] -= wi * p * dy, vz[i] -= wi * p * dz;
   vx[j] += wj * p * dx, vy[j] += wj * p * dy, vz[j] += wj * p * dz;
-}
-
-/// damp_spring for a bending element with damping d (hd = h·d): the curvature's rate
-/// ċ = Σ_k w_k·v_k becomes ċ/(1 + h·d·W), W = Σ_k w_k²/m_k, by v_k −= (hd/(1 + hd·W))·(w_k/m_k)·ċ.
-template <typename Real>
-[[gnu::always_inline]] inline void damp_bend(Real* __restrict vx, Real* __restrict vy,
-                                             Real* __restrict vz, const Real* __restrict w,
-                                             const int32_t* v, const Real* wt, Real hd) {
-  Real cx = 0, cy = 0, cz = 0, sum = 0;
-  for (int k = 0; k < 4; ++k) {
-    const int32_t p = v[k];
-    cx += wt[k] * vx[p], cy += wt[k] * vy[p], cz += wt[k] * vz[p];
-    sum += wt[k] * wt[k] * w[p];
-  }
-  const Real f = hd / (1 + hd * sum);
-  for (int k = 0; k < 4; ++k) {
-    const int32_t p = v[k];
-    const Real s = f * wt[k] * w[p];
-    vx[p] -= s * cx, vy[p] -= s * cy, vz[p] -= s * cz;
-  }
 }
 
 /// The move of one distance constraint, for two particles given as vectors.

@@ -18,12 +18,13 @@
 // stiffness-proportional damping taken on the velocities rather than in the projections.
 // XPBD's damping term γ = c/(k·h) grows as the substeps shrink, and with one sweep a substep
 // leaving the constraints unconverged it shifts the rest shape: a cantilever strip at 1082
-// substeps sagged 15% past its elastica, 0.14% without. On the velocities (damp_spring,
-// damp_bend) still particles feel nothing. The pass runs once a frame, over the frame's step:
-// every substep cost 60% more on sphere-denim at 64² (41 against 25 ms a frame) for
-// the same shape (mean height, lowest point and widest reach within 2 cm after 4 s, the kinetic
-// energy alike), as 1/(1 + λ·dt) and (1 + λ·h)^−n agree where λ·dt is small (bending, slow
-// stretch) and both remove what λ·dt ≫ 1 damps (fast stretch).
+// substeps sagged 15% past its elastica, 0.14% without. On the velocities still particles feel
+// nothing. Once a frame, over the frame's step: the springs' by a Gauss–Seidel sweep
+// (damp_spring; every substep cost 60% more on sphere-denim at 64², 41 against 25 ms a frame,
+// for the same shape, as 1/(1 + λ·dt) and (1 + λ·h)^−n agree where λ·dt is small and both
+// remove what λ·dt ≫ 1 damps), the bending elements' by backward Euler solved exactly
+// (forces::BendingDamping): a sweep over them damped only each element's own curvature rate and
+// left a strip swinging and folds sliding for as long as it ran.
 //
 // Particles keep the cloth's own order (slot p is particle p), plus one slot that never moves
 // for the lanes of chains shorter than their group's longest.
@@ -37,6 +38,7 @@
 #include "chain_cover.h"
 #include "chains.h"
 #include "constraints.h"
+#include "forces/bending_damping.h"
 #include "lanes.h"
 #include "particles.h"
 #include "xpbd.h"
@@ -197,14 +199,14 @@ struct BendSet {
   static constexpr int kMaxColours = 64;
   AlignedVector<int32_t> v;            ///< 4 corners per element
   AlignedVector<Real> w;               ///< 4 weights per element
-  AlignedVector<Real> inv_k, damping;  ///< 1/k, d per element (damped on the velocities)
+  AlignedVector<Real> inv_k;           ///< 1/k per element (damped apart: BendingDamping)
   std::vector<int32_t> begin;          ///< colour c: [begin[c], begin[c + 1])
   bool last_shared = false;            ///< the last colour's elements may share corners
   AlignedVector<Real> lambda;          ///< 3 per element, with several iterations
 
   /// With `multipliers`, room for λ (several iterations a substep).
   void build(const ClothModel& m, bool multipliers) {
-    v.clear(), w.clear(), inv_k.clear(), damping.clear();
+    v.clear(), w.clear(), inv_k.clear();
     std::vector<int> colour;
     std::vector<uint64_t> used(m.size(), 0);  // per particle, the colours it is in
     std::vector<int32_t> count(kMaxColours + 1, 0);
@@ -229,18 +231,17 @@ struct BendSet {
     }
     last_shared = count[kMaxColours] > 0;
     const size_t total = begin.back();
-    v.resize(4 * total), w.resize(4 * total), inv_k.resize(total), damping.resize(total);
+    v.resize(4 * total), w.resize(4 * total), inv_k.resize(total);
     for (size_t e = 0; e < m.bending.size(); ++e) {
       if (colour[e] < 0) continue;
       const BendingElement& b = m.bending[e];
       const int32_t k = at[colour[e]]++;
       for (int c = 0; c < 4; ++c) v[4 * k + c] = b.v[c], w[4 * k + c] = static_cast<Real>(b.w[c]);
       inv_k[k] = static_cast<Real>(1.0 / b.stiffness);
-      damping[k] = static_cast<Real>(b.damping);
     }
     lambda.assign(multipliers ? 3 * total : 0, Real(0));
   }
-  int64_t bytes() const { return heap_bytes(v, w, inv_k, damping, begin, lambda); }
+  int64_t bytes() const { return heap_bytes(v, w, inv_k, begin, lambda); }
 
   /// Colour by colour over the elements (see drape::xpbd::each_by_colour): all but a shared
   /// last colour are independent.
@@ -249,14 +250,6 @@ struct BendSet {
     const int colours = static_cast<int>(begin.size()) - 1;
     xpbd::each_by_colour<false>(
         begin, [&](int c) { return c + 1 < colours || !last_shared; }, one);
-  }
-
-  /// The velocity damping (damp_bend) after a substep of h.
-  void damp(Particles<Real>& p, Real h) {
-    each_by_colour([&](int32_t k) {
-      damp_bend(p.v.x.data(), p.v.y.data(), p.v.z.data(), p.inv_mass.data(), &v[4 * size_t(k)],
-                &w[4 * size_t(k)], h * damping[k]);
-    });
   }
 
   /// One Gauss–Seidel sweep, as SweepSet::sweep, undamped (see damp).
@@ -362,6 +355,8 @@ class MeshXpbd final : public Solver {
     });
     all_.lambda.assign(iterations_ > 1 ? all_.i.size() : 0, 0.0);
     bend_.build(m, iterations_ > 1);
+    bend_damping_.prepare(m, w.state.pinned, def.dt);
+    damp_time_ = 0.0;
     particles_.area_drag(w.forces.air_density > 0.0 && w.forces.drag_coefficient > 0.0);
     current_ = false;
     frame_dt_ = def.dt;
@@ -484,7 +479,14 @@ class MeshXpbd final : public Solver {
       }
       // A material's damping, on the velocities, once over the substeps run (see the top).
       all_.damp(particles_, ran * h);
-      bend_.damp(particles_, ran * h);
+#pragma omp single
+      {
+        damp_time_ += ran * h;
+        if (!bend_damping_.empty() && damp_time_ >= (1.0 - 1e-9) * bend_damping_.dt()) {
+          bend_damping_.apply(particles_.v.x.data(), particles_.v.y.data(), particles_.v.z.data());
+          damp_time_ = 0.0;
+        }
+      }
 #pragma omp for schedule(static)
       for (int32_t i = 0; i < n_; ++i) particles_.write(s, i, i);
     }
@@ -498,7 +500,7 @@ class MeshXpbd final : public Solver {
   int substeps() const override { return substeps_; }
   int64_t workspace_bytes() const override {
     int64_t bytes = particles_.bytes() + heap_bytes(scratch_, triangles_) + all_.bytes() +
-                    stiffest_.bytes() + left_over_.bytes() + bend_.bytes();
+                    stiffest_.bytes() + left_over_.bytes() + bend_.bytes() + bend_damping_.bytes();
     for (const ChainLayer<Real>& layer : layers_) bytes += layer.bytes();
     return bytes;
   }
@@ -682,6 +684,8 @@ class MeshXpbd final : public Solver {
   SweepSet<Real> all_;         ///< every spring (with line passes: all but the structural)
   SweepSet<Real> stiffest_;    ///< the stiffest springs (with line passes: the structural)
   BendSet<Real> bend_;         ///< a material's bending elements
+  forces::BendingDamping bend_damping_;  ///< their damping, over a frame's step
+  double damp_time_ = 0.0;  ///< s stepped since bend_damping_ last ran (a frame's parts add up)
   // Line passes (solver.line_passes).
   int line_passes_ = 0;
   Real relaxation_ = 1;
