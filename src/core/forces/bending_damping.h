@@ -36,7 +36,7 @@ class BendingDamping {
     Real* v[3] = {vx, vy, vz};
     for (int d = 0; d < 3; ++d) {
       for (int32_t p = 0; p < static_cast<int32_t>(row_.size()); ++p)
-        if (row_[p] >= 0) rhs_(row_[p], d) = mass_[row_[p]] * double(v[d][p]);
+        if (row_[p] >= 0) rhs_(row_[p], d) = row_mass_[row_[p]] * double(v[d][p]);
       for (const Coupling& c : couplings_) rhs_(c.row, d) -= c.weight * double(v[d][c.pinned]);
     }
     solve();
@@ -61,11 +61,11 @@ class BendingDamping {
   std::vector<uint8_t> pinned_;
   std::vector<double> masses_, dampings_;
   std::vector<int32_t> row_;  // per particle: its row, or −1 when it is not free
-  std::vector<double> mass_;  // per row
+  std::vector<double> row_mass_;  // per row
   std::vector<Coupling> couplings_;
   Eigen::SparseMatrix<double> a_;  // M + dt·D over the free particles
   Eigen::SimplicialLLT<Eigen::SparseMatrix<double>> llt_;
-  Eigen::MatrixX3d rhs_;
+  Eigen::MatrixX3d rhs_, solution_;
 };
 
 }  // namespace drape::forces

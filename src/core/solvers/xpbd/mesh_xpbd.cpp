@@ -252,7 +252,7 @@ struct BendSet {
         begin, [&](int c) { return c + 1 < colours || !last_shared; }, one);
   }
 
-  /// One Gauss–Seidel sweep, as SweepSet::sweep, undamped (see damp).
+  /// One Gauss–Seidel sweep, as SweepSet::sweep, undamped (the damping: BendingDamping).
   template <bool kLambda>
   void sweep(Particles<Real>& p, Real h, bool first) {
     const Real *__restrict bx = p.base.x.data(), *__restrict by = p.base.y.data(),
