@@ -332,6 +332,29 @@ TEST(BendingDamping, SolvesBackwardEulerForTheElementsDampingExactly) {
   }
 }
 
+// Cloth whose elements are not damped (every seed scene) has nothing to solve: the damping keeps
+// no matrix and no copy of the pins or masses, however large the cloth, and one that was
+// damped and is prepared again undamped lets its factorisation go.
+TEST(BendingDamping, KeepsNothingForClothWithoutDamping) {
+  ClothDef def = material_mesh("denim", 24);
+  def.material->damping = 0.0;
+  const ClothModel undamped = build_model(def);
+  def.material->damping = 0.002;
+  const ClothModel damped = build_model(def);
+  const std::vector<uint8_t> pins(undamped.size(), 0);
+  forces::BendingDamping damping;
+  damping.prepare(undamped, pins, 1.0 / 60.0);
+  EXPECT_TRUE(damping.empty());
+  const int64_t idle = damping.bytes();
+  EXPECT_LT(idle, 1024) << "bytes kept for " << undamped.size() << " particles";
+  damping.prepare(damped, pins, 1.0 / 60.0);
+  EXPECT_FALSE(damping.empty());
+  EXPECT_GT(damping.bytes(), 100 * undamped.size());  // the factor, at least
+  damping.prepare(undamped, pins, 1.0 / 60.0);
+  EXPECT_TRUE(damping.empty());
+  EXPECT_EQ(damping.bytes(), idle);
+}
+
 TEST(CompressedSpring, ActsWithTheSofterStiffnessAndStaysAGradient) {
   const Vec3 xi(0.0, 0.0, 0.0);
   const double k = 100.0, rest = 1.0, c = 0.1;

@@ -9,6 +9,13 @@ namespace drape::forces {
 
 void BendingDamping::prepare(const ClothModel& model, const std::vector<uint8_t>& pinned,
                              double dt) {
+  bool damped = false;
+  for (const BendingElement& b : model.bending) damped = damped || b.damping > 0.0;
+  if (!damped || !(dt > 0.0)) {  // nothing to solve: keep nothing (no copies for the check)
+    *this = BendingDamping();
+    dt_ = dt;
+    return;
+  }
   std::vector<double> dampings(model.bending.size());
   for (size_t e = 0; e < model.bending.size(); ++e) dampings[e] = model.bending[e].damping;
   if (dt == dt_ && pinned == pinned_ && model.mass == masses_ && dampings == dampings_) return;
@@ -21,9 +28,6 @@ void BendingDamping::prepare(const ClothModel& model, const std::vector<uint8_t>
   row_.assign(n, -1);
   row_mass_.clear();
   couplings_.clear();
-  bool damped = false;
-  for (const BendingElement& b : model.bending) damped = damped || b.damping > 0.0;
-  if (!damped || !(dt > 0.0)) return;
   for (int32_t p = 0; p < n; ++p)
     if (!pinned[p]) {
       row_[p] = rows_++;
@@ -49,11 +53,11 @@ void BendingDamping::prepare(const ClothModel& model, const std::vector<uint8_t>
     }
   }
   for (const auto& [key, weight] : coupled) couplings_.push_back({key.first, key.second, weight});
-  a_.resize(rows_, rows_);
-  a_.setFromTriplets(entries.begin(), entries.end());
-  llt_.compute(a_);
+  Eigen::SparseMatrix<double> a(rows_, rows_);  // M + dt·D over the free particles
+  a.setFromTriplets(entries.begin(), entries.end());
+  llt_ = std::make_unique<Factor>(a);
   // M + dt·D is M (positive) plus a positive semidefinite sum: only a broken model fails here.
-  if (llt_.info() != Eigen::Success)
+  if (llt_->info() != Eigen::Success)
     throw InputError("cloth.material", "bending damping: the system could not be factorised");
   rhs_.resize(rows_, 3);
   solution_.resize(rows_, 3);
@@ -64,15 +68,15 @@ void BendingDamping::solve() {
   // of the `single` that calls apply() takes up (outside a parallel region they run in turn).
   for (int d = 0; d < 3; ++d) {
 #pragma omp task firstprivate(d)
-    solution_.col(d) = llt_.solve(rhs_.col(d));
+    solution_.col(d) = llt_->solve(rhs_.col(d));
   }
 #pragma omp taskwait
   rhs_.swap(solution_);
 }
 
 int64_t BendingDamping::bytes() const {
-  return heap_bytes(row_, row_mass_, couplings_, pinned_, masses_, dampings_) + sparse_bytes(a_) +
-         factor_bytes(llt_) +
+  return heap_bytes(row_, row_mass_, couplings_, pinned_, masses_, dampings_) +
+         (llt_ ? factor_bytes(*llt_) : 0) +
          static_cast<int64_t>(rhs_.size() + solution_.size()) * int64_t{sizeof(double)};
 }
 

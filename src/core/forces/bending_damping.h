@@ -13,6 +13,7 @@
 #include <Eigen/SparseCholesky>
 #include <Eigen/SparseCore>
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "drape/cloth.h"
@@ -63,8 +64,8 @@ class BendingDamping {
   std::vector<int32_t> row_;  // per particle: its row, or −1 when it is not free
   std::vector<double> row_mass_;  // per row
   std::vector<Coupling> couplings_;
-  Eigen::SparseMatrix<double> a_;  // M + dt·D over the free particles
-  Eigen::SimplicialLLT<Eigen::SparseMatrix<double>> llt_;
+  using Factor = Eigen::SimplicialLLT<Eigen::SparseMatrix<double>>;
+  std::unique_ptr<Factor> llt_;  // of M + dt·D over the free particles; null when empty
   Eigen::MatrixX3d rhs_, solution_;
 };
 
