@@ -118,6 +118,25 @@ double ColliderSet::travel(size_t k, double t0, double t1) const {
   return travel;
 }
 
+int ColliderSet::substeps_for(const std::vector<Vec3>& x, const std::vector<Vec3>& v,
+                              const std::vector<double>& inv_mass, double t0, double t1) const {
+  if (!moves_) return 1;
+  const double dt = t1 - t0;
+  double worst = 0.0;  // the most substep lengths a collider's relative move spans
+  for (size_t k = 0; k < rest_.size(); ++k) {
+    if (!moving(k)) continue;
+    const double own = travel(k, t0, t1);
+    double fastest = 0.0;
+    for (size_t i = 0; i < x.size(); ++i) {
+      if (inv_mass[i] == 0.0) continue;
+      const double move = v[i].norm() * dt;
+      if (move > fastest && !clear_of(now_[k], x[i], move + own)) fastest = move;
+    }
+    worst = std::max(worst, (own + fastest) / (size_[k] / kSubstepsPerPose));
+  }
+  return std::clamp(static_cast<int>(std::ceil(worst * (1.0 - 1e-9))), 1, kMaxSubsteps);
+}
+
 void ColliderSet::pose(double t0, double t1) {
   if (!moves_) return;
   contact_.clear();

@@ -15,7 +15,9 @@
 // springs by up to h²·g per step and pump energy into them. Friction then acts on the
 // tangential velocity with the normal velocity change as the Coulomb bound. Long-range
 // attachments at their limit are constrained the same way (without friction), up to two
-// constraints per particle; the projection after the step catches the rest.
+// constraints per particle; the projection after the step catches the rest. A frame where a
+// moving collider moves fast relative to the cloth near it takes more substeps
+// (ColliderSet::substeps_for): a small fast body is not swept round by large steps.
 #include <algorithm>
 #include <cmath>
 
@@ -53,9 +55,11 @@ class Implicit final : public Solver {
   }
 
   void step_frame(World& w, double dt) override {
-    const int steps = substeps_in(dt, frame_dt_, substeps_);
-    const double h = dt / steps;
     ClothState& s = w.state;
+    int steps = substeps_in(dt, frame_dt_, substeps_);
+    if (w.moving)  // a small fast body: substeps from its move relative to the cloth near it
+      steps = std::max(steps, w.moving->substeps_for(s.x, s.v, s.inv_mass, w.time, w.time + dt));
+    const double h = dt / steps;
     const int32_t n = w.model.size();
     for (int k = 0; k < steps; ++k) {
       if (k > 0 && w.stop_here()) break;
