@@ -65,9 +65,13 @@ TEST(MaterialScene, PresetByNameOrObjectAndErrorsNameTheKeys) {
   ASSERT_TRUE(d.cloth.material);
   EXPECT_EQ(d.cloth.material->density, 0.324);
   EXPECT_EQ(d.cloth.material->bending.x(), 64.196457e-6);
-  // A material scene feels air by area, not the seed's drag per particle.
-  EXPECT_EQ(d.forces.air_drag, 0.0);
-  EXPECT_EQ(d.forces.air_density, 1.225);
+  // A material scene feels air by its area, not the seed's drag per particle: unset, the keys
+  // take the defaults for a material's cloth; the seed's cloth keeps its drag.
+  EXPECT_FALSE(d.forces.air_drag.has_value());
+  EXPECT_EQ(d.forces.air_drag_for(true), 0.0);
+  EXPECT_EQ(d.forces.air_density_for(true), 1.225);
+  EXPECT_EQ(d.forces.air_drag_for(false), 0.01);
+  EXPECT_EQ(d.forces.air_density_for(false), 0.0);
 
   d = io::parse_scene(json::parse(R"({"cloth": {"material": {"preset": "knit", "compression": 0.3,
                                              "bending": [1e-5, 2e-5]}},
@@ -374,6 +378,8 @@ TEST(CompressedSpring, ActsWithTheSofterStiffnessAndStaysAGradient) {
   EXPECT_EQ(forces::acting_stiffness(xi, Vec3(0.5, 0, 0), k, rest, 1.0), k);
 }
 
+// A SceneDef built in code with a material and nothing said of the air: its cloth feels sea-level
+// air by its area and no drag per particle, as a scene file's does.
 TEST(AreaDrag, TerminalSpeedIsTheSameAtEveryResolutionWithEveryMethod) {
   // A horizontal sheet falling flat: ½ρC·A·v² = density·A·g, v = sqrt(2·density·g/(ρC)).
   const double rho = 1.225, C = 1.2, density = 0.324, g = 9.81;
@@ -387,9 +393,6 @@ TEST(AreaDrag, TerminalSpeedIsTheSameAtEveryResolutionWithEveryMethod) {
       SceneDef def;
       def.cloth = material_grid("denim", n, n, 0.5, 0.5);
       def.cloth.origin = Vec3(0.0, 100.0, 0.0);
-      def.forces.air_drag = 0.0;
-      def.forces.air_density = rho;
-      def.forces.drag_coefficient = C;
       def.solver.method = method;
       Simulation sim(def);
       for (int f = 0; f < 180; ++f) ASSERT_TRUE(sim.step());
@@ -585,9 +588,7 @@ TEST_P(Elastica, AClampedStripSagsAsTheShootingSolutionFromCoarseToFine) {
       def.cloth.pins.clear();
       for (int r = 0; r < 4; ++r)
         def.cloth.pins.push_back({0, r}), def.cloth.pins.push_back({1, r});
-      def.forces.air_drag = 0.0;
-      def.forces.air_density = 1.225;
-      def.solver.method = method;
+      def.solver.method = method;  // the air: a material's (by area) unless told otherwise
       Simulation sim(def);
       const int cols = cells + 2, frames = 480, averaged = 120;
       double drop = 0.0;

@@ -157,18 +157,26 @@ struct WindDef {
 struct ForcesDef {
   Vec3 gravity{0.0, -9.81, 0.0};  ///< m/s²
   /// ρA of one particle, kg/m: dv = −(ρA/m)|v|v dt. The seed's drag: it does not scale with the
-  /// particle's share of the cloth, so a finer cloth falls slower. A scene file with
-  /// cloth.material sets it to 0 unless it gives it; a SceneDef built in code with a material
-  /// must do so itself (and set air_density), or its fine cloth is held back: at 64 cells a
-  /// 5 cm strip's 0.11 mg particles cannot pass about 1 cm/s.
-  double air_drag = 0.01;
+  /// particle's share of the cloth, so a finer cloth falls slower. Unset: 0.01 without
+  /// cloth.material, 0 with one (see air_drag_for).
+  std::optional<double> air_drag;
   /// kg/m³, air density for the drag on the cloth's area (0 = none): each particle's share A of
   /// the area moving along its normal n feels ½ρ·C·A·|v·n|(v·n) against it, so it does not
-  /// change with resolution. A scene file with cloth.material sets it to 1.225 and air_drag
-  /// to 0 unless it gives them.
-  double air_density = 0.0;
+  /// change with resolution. Unset: 0 without cloth.material, 1.225 (air at sea level) with one.
+  std::optional<double> air_density;
   double drag_coefficient = 1.2;  ///< C of that drag, >= 0 (a flat plate broadside: about 1.2)
   WindDef wind;
+
+  /// The drag per particle a cloth with or without cloth.material feels: the value given, else
+  /// the seed's without a material and none with one, whose cloth feels the air by its area:
+  /// the seed's drag holds a fine material cloth back (at 64 cells a 5 cm strip's 0.11 mg
+  /// particles cannot pass about 1 cm/s).
+  double air_drag_for(bool material) const { return air_drag.value_or(material ? 0.0 : 0.01); }
+  /// The air density a cloth with or without cloth.material feels: the value given, else none
+  /// without a material and sea-level air with one.
+  double air_density_for(bool material) const {
+    return air_density.value_or(material ? 1.225 : 0.0);
+  }
 };
 
 enum class ColliderType : uint8_t { sphere, plane, capsule, box, mesh };

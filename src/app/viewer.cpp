@@ -585,7 +585,12 @@ void Viewer::draw_panel() {
   }
   if (ImGui::CollapsingHeader("Forces")) {
     live |= drag3("gravity (m/s2)", edit_.forces.gravity, 0.05f);
-    live |= slider("air drag (kg/m)", edit_.forces.air_drag, 0.0, 1.0, "%.4f", true);
+    const bool material = edit_.cloth.material.has_value();
+    double drag = edit_.forces.air_drag_for(material);
+    if (slider("air drag (kg/m)", drag, 0.0, 1.0, "%.4f", true)) {
+      edit_.forces.air_drag = drag;
+      live = true;
+    }
     WindDef& w = edit_.forces.wind;
     if (ImGui::BeginCombo("wind model", to_string(w.model))) {
       for (WindModel m : kWindModels)

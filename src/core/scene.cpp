@@ -234,8 +234,8 @@ void check(const SceneDef& def) {
 
   const ForcesDef& f = def.forces;
   finite(f.gravity, "forces.gravity");
-  nonnegative(f.air_drag, "forces.air_drag");
-  range(f.air_density, 0.0, 1e4, "forces.air_density");
+  if (f.air_drag) nonnegative(*f.air_drag, "forces.air_drag");
+  if (f.air_density) range(*f.air_density, 0.0, 1e4, "forces.air_density");
   range(f.drag_coefficient, 0.0, 100.0, "forces.drag_coefficient");
   const WindDef& w = f.wind;
   finite(w.direction, "forces.wind.direction");

@@ -81,6 +81,9 @@ class Reader {
   void number(const std::string& key, double& out) {
     if (const json* v = find(key)) out = as_number(*v, at(key));
   }
+  void number(const std::string& key, std::optional<double>& out) {
+    if (const json* v = find(key)) out = as_number(*v, at(key));
+  }
   void integer(const std::string& key, int& out) {
     if (const json* v = find(key)) out = as_integer(*v, at(key));
   }
@@ -598,14 +601,6 @@ SceneDef parse_scene(const json& j, const std::string& source, const std::string
                     });
       r.finish();
     }
-    if (def.cloth.material) {
-      // A material's cloth feels air by its area, the same at any resolution, not the seed's
-      // drag per particle, unless the scene says otherwise.
-      const json* fj = j.contains("forces") ? &j["forces"] : nullptr;
-      const bool object = fj && fj->is_object();
-      if (!object || !fj->contains("air_drag")) def.forces.air_drag = 0.0;
-      if (!object || !fj->contains("air_density")) def.forces.air_density = 1.225;
-    }
     if (const json* fj = top.find("forces")) {
       Reader r(*fj, "forces");
       r.vec3("gravity", def.forces.gravity);
@@ -837,8 +832,8 @@ json to_json(const SceneDef& d) {
               {"cloth", cloth},
               {"forces",
                {{"gravity", v3(d.forces.gravity)},
-                {"air_drag", d.forces.air_drag},
-                {"air_density", d.forces.air_density},
+                {"air_drag", d.forces.air_drag_for(d.cloth.material.has_value())},
+                {"air_density", d.forces.air_density_for(d.cloth.material.has_value())},
                 {"drag_coefficient", d.forces.drag_coefficient},
                 {"wind",
                  {{"model", to_string(w.model)},

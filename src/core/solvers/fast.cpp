@@ -197,10 +197,10 @@ class Fast final : public Solver {
     ClothState& s = w.state;
     const ClothModel& m = w.model;
     const int32_t n = m.size();
-    forces::apply_drag(w.forces.air_drag, s.inv_mass, h_, s.v);
-    if (w.forces.air_density > 0.0) {
+    forces::apply_drag(w.air_drag(), s.inv_mass, h_, s.v);
+    if (w.area_drag()) {
       update_normals(m, s);
-      forces::apply_area_drag(m, s, w.forces.air_density, w.forces.drag_coefficient, h_, s.v);
+      forces::apply_area_drag(m, s, w.air_density(), w.forces.drag_coefficient, h_, s.v);
     }
 #pragma omp parallel for schedule(static) if (worth_threads(n))
     for (int32_t i = 0; i < n; ++i) force_[i] = m.mass[i] * w.forces.gravity;

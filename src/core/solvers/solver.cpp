@@ -44,10 +44,10 @@ int substeps_in(double dt, double frame_dt, int per_frame) {
 void drag_drift_constrain(World& w, double h) {
   ClothState& s = w.state;
   const int32_t n = w.model.size();
-  forces::apply_drag(w.forces.air_drag, s.inv_mass, h, s.v);
-  if (w.forces.air_density > 0.0) {
+  forces::apply_drag(w.air_drag(), s.inv_mass, h, s.v);
+  if (w.area_drag()) {
     update_normals(w.model, s);
-    forces::apply_area_drag(w.model, s, w.forces.air_density, w.forces.drag_coefficient, h, s.v);
+    forces::apply_area_drag(w.model, s, w.air_density(), w.forces.drag_coefficient, h, s.v);
   }
 #pragma omp parallel for schedule(static) if (worth_threads(n))
   for (int32_t i = 0; i < n; ++i) s.x[i] += h * s.v[i];

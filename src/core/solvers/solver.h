@@ -39,6 +39,12 @@ struct World {
   /// leaves them to the stage (Solver::holds_layers).
   const HeldLayers* held = nullptr;
 
+  /// The drag per particle and the air density the cloth feels (ForcesDef's, or the defaults
+  /// for a cloth with or without a material), and whether drag on its area acts.
+  double air_drag() const { return forces.air_drag_for(model.material); }
+  double air_density() const { return forces.air_density_for(model.material); }
+  bool area_drag() const { return air_density() > 0.0 && forces.drag_coefficient > 0.0; }
+
   /// Whether pose_colliders does anything (some collider moves).
   bool colliders_move() const { return moving != nullptr; }
   /// Poses the colliders for the substep from t0 to t1 (s): each method calls it at the start

@@ -91,7 +91,7 @@ class GridXpbd final : public Solver {
     lambda_.assign(iterations_ > 1 ? families_.size() * static_cast<size_t>(slots) : 0, 0.0);
     attached_ = w.attachments.active();
     particles_.prepare_attachments(w.attachments, n, [&](int32_t i) { return grid_.slot(i); });
-    particles_.area_drag(w.forces.air_density > 0.0 && w.forces.drag_coefficient > 0.0);
+    particles_.area_drag(w.area_drag());
     prepare_lines(w, def);
     current_ = false;
     frame_dt_ = def.dt;
@@ -122,15 +122,15 @@ class GridXpbd final : public Solver {
     // step as gravity, and evaluating it once keeps many substeps cheap.
     // Drag on the area (forces.air_density) with the frame's normals, as the wind.
     const bool wind = w.forces.wind.strength > 0.0 && w.forces.wind.coefficient > 0.0;
-    const bool area = w.forces.air_density > 0.0 && w.forces.drag_coefficient > 0.0;
+    const bool area = w.area_drag();
     if (wind || area) update_normals(m, s);
     if (wind) {
       std::fill(scratch_.begin(), scratch_.end(), Vec3::Zero());
       forces::add_wind(m, s, w.forces.wind, w.time, scratch_);
     }
-    const double half_rho_c = 0.5 * w.forces.air_density * w.forces.drag_coefficient;
+    const double half_rho_c = 0.5 * w.air_density() * w.forces.drag_coefficient;
     const Vec3 g = w.forces.gravity;
-    const double drag = w.forces.air_drag;
+    const double drag = w.air_drag();
     const bool read = !current_;
     particles_.read_pins(s, w.attachments);
     if (w.colliders_move() && triangles_.empty())

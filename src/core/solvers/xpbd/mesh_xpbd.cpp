@@ -357,7 +357,7 @@ class MeshXpbd final : public Solver {
     bend_.build(m, iterations_ > 1);
     bend_damping_.prepare(m, w.state.pinned, def.dt);
     damp_time_ = 0.0;
-    particles_.area_drag(w.forces.air_density > 0.0 && w.forces.drag_coefficient > 0.0);
+    particles_.area_drag(w.area_drag());
     current_ = false;
     frame_dt_ = def.dt;
     if (def.substeps > 0) {
@@ -380,15 +380,15 @@ class MeshXpbd final : public Solver {
     // (as the grid solver does: the wind does not depend on the substep's positions).
     const bool wind = w.forces.wind.strength > 0.0 && w.forces.wind.coefficient > 0.0;
     // Drag on the area, with the frame's normals too.
-    const bool area = w.forces.air_density > 0.0 && w.forces.drag_coefficient > 0.0;
+    const bool area = w.area_drag();
     if (wind || area) update_normals(m, s);
     if (wind) {
       std::fill(scratch_.begin(), scratch_.end(), Vec3::Zero());
       forces::add_wind(m, s, w.forces.wind, w.time, scratch_);
     }
-    const double half_rho_c = 0.5 * w.forces.air_density * w.forces.drag_coefficient;
+    const double half_rho_c = 0.5 * w.air_density() * w.forces.drag_coefficient;
     const Vec3 g = w.forces.gravity;
-    const double drag = w.forces.air_drag;
+    const double drag = w.air_drag();
     const bool read = !current_;
     if (w.colliders_move() && triangles_.empty())
       triangles_ = triangle_slots(m, [](int32_t i) { return i; });
