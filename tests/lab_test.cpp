@@ -49,14 +49,17 @@ SceneDef cantilever(const std::string& preset, int cells) {
 
 TEST(LabCantilever, MeasuresTheMaterialsRigidityOnAStiffAndASoftPreset) {
   // The strip slides out until its tip meets the 41.5° plane: the overhang is the elastica's,
-  // and ρg·(overhang/2)³ the material's B, within the test's 5%.
-  for (const char* preset : {"denim", "knit"}) {
-    const lab::CantileverResult r = lab::run_cantilever(cantilever(preset, 40));
+  // and ρg·(overhang/2)³ the material's B, within the test's 5%. Every overhang comes to rest,
+  // at the command's default 80 cells too (with CG stopping at 1e-5, not tight enough to
+  // resolve the 0.1 mm/s the rest test asks for, its last six overhangs never did).
+  for (const auto& [preset, cells] : {std::pair{"denim", 40}, {"knit", 40}, {"denim", 80}}) {
+    const lab::CantileverResult r = lab::run_cantilever(cantilever(preset, cells));
     ASSERT_TRUE(r.reached) << preset;
     std::printf(
-        "cantilever %s, 40 cells: overhang %.4f m (elastica %.4f), B %.3g N·m "
+        "cantilever %s, %d cells: overhang %.4f m (elastica %.4f), B %.3g N·m "
         "(material %.3g), %zu stages\n",
-        preset, r.overhang, r.elastica_overhang, r.rigidity, r.material_rigidity, r.stages.size());
+        preset, cells, r.overhang, r.elastica_overhang, r.rigidity, r.material_rigidity,
+        r.stages.size());
     EXPECT_NEAR(r.overhang / r.elastica_overhang, 1.0, 0.02) << preset;
     EXPECT_NEAR(r.rigidity / r.material_rigidity, 1.0, 0.05) << preset;
     EXPECT_DOUBLE_EQ(r.bending_length, 0.5 * r.overhang);
