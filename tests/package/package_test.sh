@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# Installs drape into a temporary prefix, builds examples/falling_cloth.cpp against it by CMake
-# (find_package(drape CONFIG)) and by pkg-config (drape.pc), and runs both; checks that every
+# Installs drape into a temporary prefix, builds the programs in examples/ against it by CMake
+# (find_package(drape CONFIG)) and by pkg-config (drape.pc), and runs them; checks that every
 # installed header compiles on its own with only the installed include folder (so none names a
 # private header), and that the installed command and Python module run.
 # Usage: package_test.sh BUILD_DIR SOURCE_DIR CXX [PYTHON]
@@ -20,15 +20,18 @@ cmake -S "$src/examples" -B "$tmp/cmake" -G Ninja -DCMAKE_BUILD_TYPE=Release \
   -DCMAKE_CXX_COMPILER="$cxx" -DCMAKE_PREFIX_PATH="$prefix" >/dev/null
 cmake --build "$tmp/cmake" >/dev/null
 "$tmp/cmake/falling_cloth"
+"$tmp/cmake/falling_denim"
 
 echo "package: pkg-config"
 pc=$(find "$prefix" -name drape.pc)
 export PKG_CONFIG_PATH
 PKG_CONFIG_PATH=$(dirname "$pc")
-# shellcheck disable=SC2046 # pkg-config's flags are words
-"$cxx" -std=c++20 -O2 "$src/examples/falling_cloth.cpp" -o "$tmp/falling_cloth" \
-  $(pkg-config --cflags --libs drape)
-"$tmp/falling_cloth"
+for example in falling_cloth falling_denim; do
+  # shellcheck disable=SC2046 # pkg-config's flags are words
+  "$cxx" -std=c++20 -O2 "$src/examples/$example.cpp" -o "$tmp/$example" \
+    $(pkg-config --cflags --libs drape)
+  "$tmp/$example"
+done
 
 echo "package: headers"
 for header in "$prefix"/include/drape/*.h; do
