@@ -63,15 +63,15 @@ void BendingDamping::prepare(const ClothModel& model, const std::vector<uint8_t>
   solution_.resize(rows_, 3);
 }
 
-void BendingDamping::solve() {
-  // x, y and z are independent: a task each, which the rest of a team waiting at the barrier
-  // of the `single` that calls apply() takes up (outside a parallel region they run in turn).
-  for (int d = 0; d < 3; ++d) {
-#pragma omp task firstprivate(d)
-    solution_.col(d) = llt_->solve(rhs_.col(d));
-  }
-#pragma omp taskwait
-  rhs_.swap(solution_);
+void BendingDamping::solve(int d) {
+  // A⁻¹ = Pᵀ·L⁻ᵀ·L⁻¹·P by hand, through solution_'s column: Eigen's solve() allocates for its
+  // permutations.
+  const int* p = llt_->permutationP().indices().data();
+  auto y = solution_.col(d);
+  for (int32_t i = 0; i < rows_; ++i) y(p[i]) = rhs_(i, d);  // y = P·b
+  llt_->matrixL().solveInPlace(y);
+  llt_->matrixU().solveInPlace(y);
+  for (int32_t i = 0; i < rows_; ++i) rhs_(i, d) = y(p[i]);  // x = Pᵀ·y
 }
 
 int64_t BendingDamping::bytes() const {

@@ -31,25 +31,28 @@ class BendingDamping {
   bool empty() const { return rows_ == 0; }
   double dt() const { return dt_; }
 
-  /// v ← v' for the free particles, v given as three arrays indexed by particle.
+  /// v ← v' for the free particles, v given as three arrays indexed by particle. x, y and z
+  /// are independent, one a thread: inside a parallel region every thread of the team calls it
+  /// (a worksharing loop; outside one they run in turn). It allocates nothing (it runs inside
+  /// step()).
   template <typename Real>
   void apply(Real* vx, Real* vy, Real* vz) {
     Real* v[3] = {vx, vy, vz};
+#pragma omp for schedule(static)
     for (int d = 0; d < 3; ++d) {
       for (int32_t p = 0; p < static_cast<int32_t>(row_.size()); ++p)
         if (row_[p] >= 0) rhs_(row_[p], d) = row_mass_[row_[p]] * double(v[d][p]);
       for (const Coupling& c : couplings_) rhs_(c.row, d) -= c.weight * double(v[d][c.pinned]);
-    }
-    solve();
-    for (int d = 0; d < 3; ++d)
+      solve(d);
       for (int32_t p = 0; p < static_cast<int32_t>(row_.size()); ++p)
         if (row_[p] >= 0) v[d][p] = static_cast<Real>(rhs_(row_[p], d));
+    }
   }
 
   int64_t bytes() const;
 
  private:
-  void solve();  // rhs_ ← A⁻¹·rhs_
+  void solve(int d);  // rhs_.col(d) ← A⁻¹·rhs_.col(d)
 
   // A pinned particle's velocity moves to the right-hand side: rhs[row] −= weight·v[pinned].
   struct Coupling {
@@ -66,7 +69,7 @@ class BendingDamping {
   std::vector<Coupling> couplings_;
   using Factor = Eigen::SimplicialLLT<Eigen::SparseMatrix<double>>;
   std::unique_ptr<Factor> llt_;  // of M + dt·D over the free particles; null when empty
-  Eigen::MatrixX3d rhs_, solution_;
+  Eigen::MatrixX3d rhs_, solution_;  // per row and coordinate; solution_: the solve's scratch
 };
 
 }  // namespace drape::forces

@@ -482,11 +482,11 @@ class MeshXpbd final : public Solver {
 #pragma omp single
       {
         damp_time_ += ran * h;
-        if (!bend_damping_.empty() && damp_time_ >= (1.0 - 1e-9) * bend_damping_.dt()) {
-          bend_damping_.apply(particles_.v.x.data(), particles_.v.y.data(), particles_.v.z.data());
-          damp_time_ = 0.0;
-        }
+        damp_now_ = !bend_damping_.empty() && damp_time_ >= (1.0 - 1e-9) * bend_damping_.dt();
+        if (damp_now_) damp_time_ = 0.0;
       }
+      if (damp_now_)  // every thread: x, y and z shared among them
+        bend_damping_.apply(particles_.v.x.data(), particles_.v.y.data(), particles_.v.z.data());
 #pragma omp for schedule(static)
       for (int32_t i = 0; i < n_; ++i) particles_.write(s, i, i);
     }
@@ -686,6 +686,7 @@ class MeshXpbd final : public Solver {
   BendSet<Real> bend_;         ///< a material's bending elements
   forces::BendingDamping bend_damping_;  ///< their damping, over a frame's step
   double damp_time_ = 0.0;  ///< s stepped since bend_damping_ last ran (a frame's parts add up)
+  bool damp_now_ = false;   ///< this frame's part runs it (set by one thread for the team)
   // Line passes (solver.line_passes).
   int line_passes_ = 0;
   Real relaxation_ = 1;
