@@ -14,6 +14,7 @@
 #include "forces/bending.h"
 #include "long_range.h"
 #include "solvers/solver.h"
+#include "solvers/system_factor.h"
 
 namespace drape {
 
@@ -319,7 +320,7 @@ int64_t estimated_memory(const SceneDef& def) {
   // workspace symplectic 32 B, xpbd 136 B (84 B single; with line passes 297 B, 164 B
   // single), implicit 781–789 B, fast 1036 B at 4096 particles rising to 1508 B at 65 536
   // (about 118 B per doubling).
-  int64_t workspace = 0;
+  int64_t workspace = 0, factor = 0;
   switch (def.solver.method) {
     case Method::symplectic:
       workspace = 64;
@@ -330,9 +331,11 @@ int64_t estimated_memory(const SceneDef& def) {
     case Method::automatic:
       // xpbd's with line passes and its springs; with a material, implicit's (its largest).
       workspace = def.cloth.material ? 1024 : 384 + 24;
+      if (def.cloth.material) factor = SystemFactor::estimated_bytes(n);
       break;
-    case Method::implicit:
+    case Method::implicit:  // and the factor it may make where block-Jacobi CG is slow
       workspace = 1024;
+      factor = SystemFactor::estimated_bytes(n);
       break;
     case Method::fast:
       workspace = std::max<int64_t>(1024, 128 * static_cast<int64_t>(std::log2(double(n) + 1)));
@@ -340,7 +343,7 @@ int64_t estimated_memory(const SceneDef& def) {
   }
   // Long-range attachments: up to LongRange::kMaxTethers pins and limits per particle.
   if (def.cloth.long_range.enabled) workspace += 48;
-  return n * (512 + workspace);
+  return n * (512 + workspace) + factor;
 }
 
 MemoryUse Simulation::memory() const {

@@ -20,16 +20,33 @@
 // (ColliderSet::substeps_for): a small fast body is not swept round by large steps.
 #include <algorithm>
 #include <cmath>
+#include <memory>
 
 #include "forces.h"
 #include "forces/bending.h"
 #include "long_range.h"
 #include "parallel.h"
 #include "solver.h"
+#include "system_factor.h"
 
 namespace drape {
 
 namespace {
+
+// The preconditioner is chosen by cost, from the last solves' iteration counts (never from
+// clocks, so a run's choices, and its bits, do not depend on the machine or the threads):
+// block-Jacobi, cheap per iteration; a fresh factor of the system (SystemFactor), dear to make
+// but then one iteration; or the last factor, lagged, as long as its iterations cost less than
+// either. The costs, in ns on one core, were measured on denim over the sphere at 32² and 64²
+// and on the lab's strip (they weigh the choices against each other; no time is promised).
+constexpr double kJacobiNsPerParticle = 9.0;  // a block-Jacobi CG iteration: multiply, vectors
+constexpr double kJacobiNsPerSpring = 4.0;
+constexpr double kJacobiNsPerElement = 9.0;  // a bending element
+constexpr double kSolveNsPerEntry = 2.2;     // a solve with the factor, per entry of L
+constexpr double kFactoriseNsPerWork = 0.4;  // per unit of SystemFactor::factorise_work()
+// Block-Jacobi solves that take fewer iterations than this never look at a factor (its pattern,
+// ordering and counts cost memory and time once).
+constexpr int kConsiderFactorAfter = 50;
 
 class Implicit final : public Solver {
  public:
@@ -42,6 +59,18 @@ class Implicit final : public Solver {
     block_.assign(w.model.springs.size(), Mat3::Zero());
     diag_.assign(n, Mat3::Zero());
     precond_.assign(n, Mat3::Zero());
+    filter_.assign(n, Mat3::Identity());
+    // A factor stays while the springs and elements are the same (a grab or a new pin prepares
+    // again): lagged, it is still a sound preconditioner, and the choice below replaces it
+    // when it no longer pays.
+    const uint64_t pattern = pattern_key(w.model);
+    if (pattern != pattern_key_) {
+      factor_.reset();
+      factor_costs_ = false;
+      next_ = Preconditioner::jacobi;
+      jacobi_iterations_ = -1;
+      pattern_key_ = pattern;
+    }
     // The last solution stays a candidate first guess through a new preparation (changed pins,
     // masses or dt): any guess converges, and a scene prepared again unchanged goes on to the bit.
     if (last_dv_.size() != static_cast<size_t>(n)) {
@@ -65,7 +94,15 @@ class Implicit final : public Solver {
       if (k > 0 && w.stop_here()) break;
       w.pose_colliders(w.time + k * h, w.time + (k + 1) * h);
       assemble(w, h, w.time + k * h);
-      solve(w.model, s);
+      if (next_ == Preconditioner::fresh_factor) {
+        next_ = Preconditioner::factor;
+        stale_ = 0.0;
+        if (!factor_->factorise(w.model, diag_, block_, h_, filter_)) {  // never expected
+          next_ = Preconditioner::jacobi;
+          factorise_ = HUGE_VAL;
+        }
+      }
+      choose_next(w.model, solve(w.model, s));
       last_dv_ = dv_;
       warm_ = true;
       // Newton update with contact friction, then drag (semi-implicit, stable at any h) and
@@ -89,7 +126,8 @@ class Implicit final : public Solver {
   }
   int64_t workspace_bytes() const override {
     return heap_bytes(rhs_, force_, dv_, r_, s_, c_, q_, last_dv_, contact_n_, contact_surface_,
-                      contact_dvn_, contact_mu_, block_, diag_, precond_);
+                      contact_dvn_, contact_mu_, block_, diag_, precond_, filter_) +
+           (factor_ ? factor_->bytes() : 0);
   }
 
  private:
@@ -163,7 +201,9 @@ class Implicit final : public Solver {
     for (int32_t i = 0; i < n; ++i) {
       contact_dvn_[i] = 0.0;
       contact_mu_[i] = 0.0;
+      filter_[i].setIdentity();
       if (s.inv_mass[i] == 0.0) {
+        filter_[i].setZero();
         precond_[i].setZero();
         dv_[i].setZero();
         last_dv_[i].setZero();
@@ -227,6 +267,7 @@ class Implicit final : public Solver {
           e2.squaredNorm() > 0.0
               ? (target[1] - s.v[i].dot(nrm[1]) - a1 * e1.dot(nrm[1])) / e2.dot(nrm[1])
               : 0.0;
+      filter_[i] = S;
       precond_[i] = S * precond_[i] * S;
       dv_[i] = S * dv_[i] + a1 * e1 + a2 * e2;
       last_dv_[i] = S * last_dv_[i] + a1 * e1 + a2 * e2;
@@ -254,14 +295,77 @@ class Implicit final : public Solver {
     }
   }
 
-  // The residual r = b − A·x (zero on pinned particles), c = P·r; returns rᵀc.
-  double residual(const ClothModel& m, const ClothState& s, const std::vector<Vec3>& x) {
+  // Runs update(i) on every particle (it sets r_[i]), then z = P·r_ with the preconditioner in
+  // use; returns r_ᵀz. Block-Jacobi does it in one pass, the factor needs all of r_ first.
+  template <class Update>
+  double update_and_precondition(int32_t n, Update update, std::vector<Vec3>& z) {
+    if (next_ != Preconditioner::factor)
+      return deterministic_sum(n, [&](int64_t i) {
+        update(i);
+        z[i] = precond_[i] * r_[i];
+        return r_[i].dot(z[i]);
+      });
+#pragma omp parallel for schedule(static) if (worth_threads(n))
+    for (int32_t i = 0; i < n; ++i) update(i);
+    factor_->apply(r_, filter_, z);
+    return deterministic_sum(n, [&](int64_t i) { return r_[i].dot(z[i]); });
+  }
+
+  // The residual r = b − A·x (zero on pinned particles).
+  void residual(const ClothModel& m, const ClothState& s, const std::vector<Vec3>& x) {
     multiply(m, x, q_);
-    return deterministic_sum(m.size(), [&](int64_t i) {
+    const int32_t n = m.size();
+#pragma omp parallel for schedule(static) if (worth_threads(n))
+    for (int32_t i = 0; i < n; ++i)
       r_[i] = s.inv_mass[i] > 0.0 ? Vec3(rhs_[i] - q_[i]) : Vec3::Zero();
-      c_[i] = precond_[i] * r_[i];
-      return r_[i].dot(c_[i]);
-    });
+  }
+
+  // After a solve of `iterations` with next_'s preconditioner: the one for the next substep.
+  void choose_next(const ClothModel& m, int iterations) {
+    const double jacobi = kJacobiNsPerParticle * m.size() +
+                          kJacobiNsPerSpring * static_cast<double>(m.springs.size()) +
+                          kJacobiNsPerElement * static_cast<double>(m.bending.size());
+    const double fresh = factorise_ + 2 * with_factor_;  // a fresh factor takes one iteration
+    if (next_ == Preconditioner::jacobi) {
+      jacobi_iterations_ = iterations;
+      if (iterations < kConsiderFactorAfter ||
+          (!factor_costs_ && m.size() > SystemFactor::kMaxParticles))
+        return;
+      if (!factor_costs_) {  // the factor's costs: its pattern analysed, once
+        factor_ = std::make_unique<SystemFactor>();
+        factor_->prepare(m);
+        with_factor_ = jacobi + kSolveNsPerEntry * static_cast<double>(factor_->entries());
+        factorise_ = kFactoriseNsPerWork * factor_->factorise_work();
+        factor_costs_ = true;
+        return choose_next(m, iterations);
+      }
+      // A fresh factor must pay on this one substep: where the cloth moves fast (landing,
+      // folding, contacts coming and going) it is stale by the next, worse than block-Jacobi.
+      if ((iterations + 1) * jacobi > fresh) {
+        next_ = Preconditioner::fresh_factor;
+        if (!factor_) {
+          factor_ = std::make_unique<SystemFactor>();
+          factor_->prepare(m);
+        }
+      } else if (!factor_ready()) {
+        factor_.reset();  // the analysis only: its memory back
+      }
+      return;
+    }
+    // With a factor: its iterations beyond a fresh factor's one add up, and once they have
+    // cost a factorisation the next substep takes a fresh one (so the factorisations cost at
+    // most what their lagging saved), unless block-Jacobi, as last seen, is cheaper still.
+    stale_ += (iterations - 1) * with_factor_;
+    const double lagged = stale_ < factorise_ ? (iterations + 1) * with_factor_ : HUGE_VAL;
+    const double block_jacobi = (jacobi_iterations_ + 1) * jacobi;
+    if (jacobi_iterations_ >= 0 && block_jacobi < std::min(lagged, fresh))
+      next_ = Preconditioner::jacobi;
+    else
+      next_ = lagged <= fresh ? Preconditioner::factor : Preconditioner::fresh_factor;
+  }
+
+  bool factor_ready() const {
+    return factor_ && factor_->ready();
   }
 
   // φ(x) = ½xᵀAx − bᵀx = −½xᵀ(b + r) with r the residual residual() left for x. Of two
@@ -277,35 +381,51 @@ class Implicit final : public Solver {
   // takes hundreds. Stops when the residual's preconditioned norm falls below tolerance × the
   // larger of its start and the external impulse, so it neither chases round-off nor stops
   // early at rest.
-  void solve(const ClothModel& m, const ClothState& s) {
+  int solve(const ClothModel& m, const ClothState& s) {
     const int32_t n = m.size();
     double last = 0.0;  // φ of the last Δv
     if (warm_) {
       residual(m, s, last_dv_);
       last = objective(m, last_dv_);
     }
-    double delta = residual(m, s, dv_);
+    residual(m, s, dv_);
     if (warm_ && last < objective(m, dv_)) {
       dv_.swap(last_dv_);
-      delta = residual(m, s, dv_);
+      residual(m, s, dv_);
     }
+    double delta = update_and_precondition(
+        n, [](int64_t) {}, c_);
     const double threshold = tolerance_ * tolerance_ * std::max(delta, ext_norm2_);
-    for (int it = 0; it < max_iterations_ && delta > threshold; ++it) {
+    int it = 0;
+    for (; it < max_iterations_ && delta > threshold; ++it) {
       multiply(m, c_, q_);
       const double cq = deterministic_sum(n, [&](int64_t i) { return c_[i].dot(q_[i]); });
       if (!(cq > 0.0)) break;  // only round-off left (A is positive definite on free particles)
       const double alpha = delta / cq;
-      const double next = deterministic_sum(n, [&](int64_t i) {
-        dv_[i] += alpha * c_[i];
-        r_[i] -= alpha * q_[i];
-        s_[i] = precond_[i] * r_[i];
-        return r_[i].dot(s_[i]);
-      });
+      const double next = update_and_precondition(
+          n,
+          [&](int64_t i) {
+            dv_[i] += alpha * c_[i];
+            r_[i] -= alpha * q_[i];
+          },
+          s_);
       const double beta = next / delta;
       delta = next;
 #pragma omp parallel for schedule(static) if (worth_threads(n))
       for (int32_t i = 0; i < n; ++i) c_[i] = s_[i] + beta * c_[i];
     }
+    return it;
+  }
+
+  // Identifies the factor's pattern: the particles, the springs' ends, the elements' corners.
+  static uint64_t pattern_key(const ClothModel& m) {
+    uint64_t key = 1469598103934665603ull;  // FNV-1a over the indices
+    auto mix = [&](uint64_t v) { key = (key ^ v) * 1099511628211ull; };
+    mix(static_cast<uint64_t>(m.size()));
+    for (const Spring& sp : m.springs) mix((uint64_t(uint32_t(sp.i)) << 32) | uint32_t(sp.j));
+    for (const BendingElement& b : m.bending)
+      for (int32_t v : b.v) mix(uint32_t(v));
+    return key;
   }
 
   int substeps_ = 1;
@@ -323,6 +443,18 @@ class Implicit final : public Solver {
   std::vector<Mat3> block_;            // per spring: h²K + h·C
   std::vector<Mat3> diag_;             // per particle: the system matrix's diagonal block
   std::vector<Mat3> precond_;          // its inverse, zero on constrained particles
+  std::vector<Mat3> filter_;           // per particle: S (I, a projection, 0 when pinned)
+  // The preconditioner of the next solve: block-Jacobi, factor_ as it is, or factor_ made anew
+  // for it (then `factor`). The order is choose_next()'s.
+  enum class Preconditioner { jacobi, factor, fresh_factor };
+  Preconditioner next_ = Preconditioner::jacobi;
+  std::unique_ptr<SystemFactor> factor_;  // made when block-Jacobi is slow
+  uint64_t pattern_key_ = 0;              // the model factor_ and its costs are for
+  bool factor_costs_ = false;             // with_factor_ and factorise_ are known
+  double with_factor_ = 0.0;              // ns: an iteration preconditioned by the factor
+  double factorise_ = 0.0;                // ns: a factorisation
+  double stale_ = 0.0;          // ns: the iterations the factor in use took beyond one, summed
+  int jacobi_iterations_ = -1;  // the last block-Jacobi solve's, −1 before any
 };
 
 }  // namespace
