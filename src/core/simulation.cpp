@@ -241,6 +241,7 @@ void Simulation::step_with_self_collision(World& world) {
 bool Simulation::step() {
   if (diverged()) return false;
   World world{model_, state_, def_.forces, colliders_->contact(), time(), *attachments_, stop_};
+  world.bodies = colliders_.get();
   if (colliders_->moves()) world.moving = colliders_.get();
   if (self_collision_) {
     step_with_self_collision(world);

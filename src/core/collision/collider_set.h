@@ -36,15 +36,19 @@ class ColliderSet {
   /// How far (m) a point of collider k's surface moves at most between times t0 and t1.
   double travel(size_t k, double t0, double t1) const;
 
-  /// How many substeps a frame from t0 to t1 (s) needs so that in each, every moving collider
-  /// moves relative to the cloth near it by at most a sixteenth of its size across (a
-  /// sphere's radius; an eighth of a sweep pose's step): its own travel plus the fastest move
-  /// of a particle that can reach it, at the velocities v (the frame's start). For a method
-  /// that steps a whole frame at once (`implicit`), where the sweep's poses alone push cloth
-  /// out round a small fast body's sides one after another, and cloth flung at a body that has
-  /// just stopped jumps it. The fraction is measured (the curtain's ball, README "Motion"):
-  /// an eighth of the radius let the ball through, a tenth held; a sixteenth, for a margin.
-  /// At least 1, at most kMaxSubsteps.
+  /// How many substeps a frame from t0 to t1 (s) needs so that in each, every moving collider,
+  /// and every still sphere and capsule, moves relative to the cloth near it by at most a
+  /// sixteenth of its size across (a sphere's radius; an eighth of a sweep pose's step): its
+  /// own travel plus the fastest move of a particle that can reach it, at the velocities v
+  /// (the frame's start). For a method that steps a whole frame at once (`implicit`), where
+  /// the sweep's poses alone push cloth out round a small fast body's sides one after another,
+  /// cloth flung at a body that has just stopped jumps it, and a sheet falling fast onto a
+  /// small still ball parts round it in one step (its particles each stopped at the tangent
+  /// plane where they started) and lets it through. A still box's or mesh's faces are
+  /// half-spaces a particle cannot cross in one step either way; they do not count. The
+  /// fraction is measured (the curtain's ball, README "Motion"): an eighth of the radius let
+  /// the ball through, a tenth held; a sixteenth, for a margin. At least 1, at most
+  /// kMaxSubsteps.
   int substeps_for(const std::vector<Vec3>& x, const std::vector<Vec3>& v,
                    const std::vector<double>& inv_mass, double t0, double t1) const;
   static constexpr int kSubstepsPerPose = 8;

@@ -16,8 +16,8 @@
 // tangential velocity with the normal velocity change as the Coulomb bound. Long-range
 // attachments at their limit are constrained the same way (without friction), up to two
 // constraints per particle; the projection after the step catches the rest. A frame where a
-// moving collider moves fast relative to the cloth near it takes more substeps
-// (ColliderSet::substeps_for): a small fast body is not swept round by large steps.
+// moving collider or a still ball moves fast relative to the cloth near it takes more substeps
+// (ColliderSet::substeps_for): a small body is not swept round by large steps.
 #include <algorithm>
 #include <cmath>
 #include <memory>
@@ -86,8 +86,8 @@ class Implicit final : public Solver {
   void step_frame(World& w, double dt) override {
     ClothState& s = w.state;
     int steps = substeps_in(dt, frame_dt_, substeps_);
-    if (w.moving)  // a small fast body: substeps from its move relative to the cloth near it
-      steps = std::max(steps, w.moving->substeps_for(s.x, s.v, s.inv_mass, w.time, w.time + dt));
+    if (w.bodies)  // a small body: substeps from its move relative to the cloth near it
+      steps = std::max(steps, w.bodies->substeps_for(s.x, s.v, s.inv_mass, w.time, w.time + dt));
     const double h = dt / steps;
     const int32_t n = w.model.size();
     for (int k = 0; k < steps; ++k) {

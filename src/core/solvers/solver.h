@@ -31,6 +31,7 @@ struct World {
   const std::atomic<bool>* stop = nullptr;  ///< when it turns true, the frame stops early
   bool cut_short = false;                   ///< set by the solver that stopped early
   ColliderSet* moving = nullptr;            ///< the colliders when some move; null when none does
+  const ColliderSet* bodies = nullptr;      ///< the colliders, moving or still (null: none given)
   /// The cloth's pairs with boxes' and meshes' sharp features this frame; null when none can
   /// meet. Each method applies it after its particle contacts.
   const FeatureContacts* features = nullptr;
