@@ -119,13 +119,14 @@ double ColliderSet::travel(size_t k, double t0, double t1) const {
 }
 
 int ColliderSet::substeps_for(const std::vector<Vec3>& x, const std::vector<Vec3>& v,
-                              const std::vector<double>& inv_mass, double t0, double t1) const {
+                              const std::vector<double>& inv_mass, double t0, double t1,
+                              Counted counted) const {
   const double dt = t1 - t0;
   double worst = 0.0;  // the most substep lengths a collider's relative move spans
   for (size_t k = 0; k < rest_.size(); ++k) {
     const bool round =
         rest_[k].type == ColliderType::sphere || rest_[k].type == ColliderType::capsule;
-    if (!moving(k) && !round) continue;
+    if (moving(k) ? counted == Counted::still_round : !round) continue;
     const double own = moving(k) ? travel(k, t0, t1) : 0.0;
     double fastest = 0.0;
     for (size_t i = 0; i < x.size(); ++i) {

@@ -47,10 +47,13 @@ class ColliderSet {
   /// plane where they started) and lets it through. A still box's or mesh's faces are
   /// half-spaces a particle cannot cross in one step either way; they do not count. The
   /// fraction is measured (the curtain's ball, README "Motion"): an eighth of the radius let
-  /// the ball through, a tenth held; a sixteenth, for a margin. At least 1, at most
-  /// kMaxSubsteps.
+  /// the ball through, a tenth held; a sixteenth, for a margin. With Counted::still_round only
+  /// the still spheres and capsules count (`auto`, whose xpbd keeps the cloth's triangles out of
+  /// moving ones). At least 1, at most kMaxSubsteps.
+  enum class Counted { all, still_round };
   int substeps_for(const std::vector<Vec3>& x, const std::vector<Vec3>& v,
-                   const std::vector<double>& inv_mass, double t0, double t1) const;
+                   const std::vector<double>& inv_mass, double t0, double t1,
+                   Counted counted = Counted::all) const;
   static constexpr int kSubstepsPerPose = 8;
   static constexpr int kMaxSubsteps = 64;
 
