@@ -445,7 +445,7 @@ class Implicit final : public Solver {
   std::vector<Mat3> precond_;          // its inverse, zero on constrained particles
   std::vector<Mat3> filter_;           // per particle: S (I, a projection, 0 when pinned)
   // The preconditioner of the next solve: block-Jacobi, factor_ as it is, or factor_ made anew
-  // for it (then `factor`). The order is choose_next()'s.
+  // for it (then `factor`).
   enum class Preconditioner { jacobi, factor, fresh_factor };
   Preconditioner next_ = Preconditioner::jacobi;
   std::unique_ptr<SystemFactor> factor_;  // made when block-Jacobi is slow
