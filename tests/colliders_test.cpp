@@ -685,9 +685,6 @@ TEST_P(EveryMethod, AFastBallPushesTheCurtainAsideAndNeverTunnelsThroughIt) {
 // below) and no particle is inside it; without contacts the same check sees the sheet fall
 // through.
 TEST_P(EveryMethod, ASheetFallingFastOntoASmallStillBallNeverTunnelsThroughIt) {
-  if (GetParam().method == Method::fast)
-    GTEST_SKIP() << "not reached: the ball passes through the sheet at frame 61 (one substep); "
-                    "README, Motion";
   SceneDef def = testing_support::with(testing_support::shipped("sphere"), GetParam());
   def.forces.air_drag = 0.0;
   def.cloth.origin.y() = 5.2;
