@@ -25,7 +25,6 @@
 // Pinned and held particles are eliminated (their positions move to the right-hand side), so the
 // factorisation depends on them: prepare() refactorises, and the Simulation calls it whenever
 // pins, the held particle, masses, stiffness or dt change.
-#include <Eigen/SparseCholesky>
 #include <Eigen/SparseCore>
 #include <algorithm>
 #include <cmath>
@@ -37,7 +36,7 @@
 #include "long_range.h"
 #include "parallel.h"
 #include "solver.h"
-#include "sparse_bytes.h"
+#include "sparse_cholesky.h"
 
 namespace drape {
 
@@ -112,10 +111,9 @@ class Fast final : public Solver {
   int64_t workspace_bytes() const override {
     // The factor L and the system matrix kept for refactorising (with its diagonal); the
     // factorisation keeps a few more integers per unknown (permutations, elimination tree).
-    const int64_t matrix_bytes = sparse_bytes(A_) + diagonal_.size() * int64_t{sizeof(double)};
-    return factor_bytes(llt_) + matrix_bytes + X_.size() * int64_t{sizeof(double)} +
-           heap_bytes(held_, held_now_, free_, perm_, x0_, y_, xk_, xkm1_, b0_, rhs_, force_,
-                      contact_n_, contact_surface_, contact_dvn_, contact_mu_);
+    return cholesky_.bytes() + (diagonal_.size() + X_.size()) * int64_t{sizeof(double)} +
+           heap_bytes(held_, held_now_, free_, perm_, diag_at_, x0_, y_, xk_, xkm1_, b0_, rhs_,
+                      force_, contact_n_, contact_surface_, contact_dvn_, contact_mu_);
   }
 
  private:
@@ -193,18 +191,18 @@ class Fast final : public Solver {
     compressed_soft_ = m.compression != 1.0;
     contact_weight_ =
         w.colliders.empty() && !w.attachments.active() ? 0.0 : kContactWeight * h_ * h_ * k_max;
-    A_.resize(free, free);
-    A_.setFromTriplets(t.begin(), t.end());
-    diagonal_ = A_.diagonal();
+    {
+      Eigen::SparseMatrix<double> a(free, free);
+      a.setFromTriplets(t.begin(), t.end());
+      diagonal_ = a.diagonal();
+      if (free > 0) cholesky_.analyse(a);
+    }
+    diag_at_.resize(free);
+    for (int32_t f = 0; f < free; ++f) diag_at_[f] = cholesky_.find(f, f);
+    perm_ = free > 0 ? cholesky_.permutation() : std::vector<int32_t>{};
     held_.assign(n, 0);
     held_now_.assign(n, 0);
-    if (free > 0) {
-      llt_.analyzePattern(A_);
-      refactorise();
-    }
-    perm_.resize(free);
-    for (int32_t k = 0; k < free; ++k)
-      perm_[k] = llt_.permutationP().size() > 0 ? llt_.permutationP().indices()[k] : k;
+    if (free > 0) refactorise();
 
     for (auto* v : {&x0_, &y_, &xk_, &xkm1_, &b0_, &rhs_, &force_, &contact_n_, &contact_surface_})
       v->assign(n, Vec3::Zero());
@@ -348,10 +346,10 @@ class Fast final : public Solver {
     held_ = held_now_;
     for (int32_t i = 0; i < static_cast<int32_t>(free_.size()); ++i) {
       const int32_t f = free_[i];
-      if (f >= 0) A_.coeffRef(f, f) = diagonal_[f] + (held_[i] ? contact_weight_ : 0.0);
+      if (f >= 0)
+        cholesky_.values()[diag_at_[f]] = diagonal_[f] + (held_[i] ? contact_weight_ : 0.0);
     }
-    llt_.factorize(A_);
-    if (llt_.info() != Eigen::Success)
+    if (!cholesky_.factorise())
       throw InputError("solver.method",
                        "the fast method could not factorise its system matrix (masses must be "
                        "positive)");
@@ -365,8 +363,7 @@ class Fast final : public Solver {
 #pragma omp parallel for schedule(static) num_threads(threads) if (worth_threads(free_count_))
     for (int c = 0; c < 3; ++c) {
       auto col = X_.col(c);
-      llt_.matrixL().solveInPlace(col);
-      llt_.matrixU().solveInPlace(col);
+      cholesky_.solve_in_place(col);
     }
   }
 
@@ -399,21 +396,22 @@ class Fast final : public Solver {
   double rho_ = 0.0;
   double h_ = 1.0 / 60.0;
   bool compressed_soft_ = false;  // the model's compressed springs act with less stiffness
-  double contact_weight_ = 0.0;  // kg, w of the contact term (0 without colliders)
+  double contact_weight_ = 0.0;   // kg, w of the contact term (0 without colliders)
   int32_t free_count_ = 0;
-  std::vector<int32_t> free_;      // particle → unknown, −1 when fixed
-  std::vector<int32_t> perm_;      // unknown → row of the permuted system
-  Eigen::SparseMatrix<double> A_;  // M + hC + h²L, plus w on the held particles
-  Eigen::VectorXd diagonal_;       // A_'s diagonal without the contact term
-  std::vector<char> held_;         // 1: the particle carries the contact term in the factor
-  std::vector<char> held_now_;     // the same for this substep, decided in inertia()
-  Eigen::SimplicialLLT<Eigen::SparseMatrix<double>> llt_;
+  std::vector<int32_t> free_;  // particle → unknown, −1 when fixed
+  std::vector<int32_t> perm_;  // unknown → row of the permuted system
+  // M + hC + h²L, plus w on the held particles, and its factor.
+  SparseCholesky cholesky_;
+  std::vector<int64_t> diag_at_;  // unknown → its diagonal entry in cholesky_.values()
+  Eigen::VectorXd diagonal_;      // the diagonal without the contact term
+  std::vector<char> held_;        // 1: the particle carries the contact term in the factor
+  std::vector<char> held_now_;    // the same for this substep, decided in inertia()
   Eigen::Matrix<double, Eigen::Dynamic, 3> X_;
   std::vector<Vec3> x0_, y_, xk_, xkm1_, b0_, rhs_, force_;
-  std::vector<Vec3> contact_n_;      // outward normal of the particle's contact
+  std::vector<Vec3> contact_n_;        // outward normal of the particle's contact
   std::vector<Vec3> contact_surface_;  // the velocity of the surface it touches (m/s)
-  std::vector<double> contact_dvn_;  // its normal velocity change (m/s), 0 = no contact
-  std::vector<double> contact_mu_;   // its friction coefficient
+  std::vector<double> contact_dvn_;    // its normal velocity change (m/s), 0 = no contact
+  std::vector<double> contact_mu_;     // its friction coefficient
 };
 
 }  // namespace

@@ -66,8 +66,10 @@ class Solver {
  public:
   virtual ~Solver() = default;
   /// Called before the first frame and whenever the model, pins, masses or settings change.
-  /// Sizes the workspace (step_frame allocates nothing). Throws InputError if the method
-  /// cannot run this set-up (e.g. too many substeps).
+  /// Sizes the workspace (step_frame allocates nothing, tests/allocation_test.cpp; but for
+  /// what a step finds growing, such as contacts, `implicit`'s factor, set up the first time
+  /// CG is slow, and a factorisation's work rows beyond SparseCholesky's 16 384). Throws
+  /// InputError if the method cannot run this set-up (e.g. too many substeps).
   virtual void prepare(const World& world, const SolverDef& def) = 0;
   /// Advances one frame of dt, or part of it: between substeps it asks world.stop_here() and
   /// stops when told to. A dt shorter than the frame's (a collision step's part) takes its

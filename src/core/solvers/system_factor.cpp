@@ -2,8 +2,6 @@
 
 #include <algorithm>
 
-#include "sparse_bytes.h"
-
 namespace drape {
 
 namespace {
@@ -14,7 +12,6 @@ constexpr int kPairs[6][2] = {{0, 1}, {0, 2}, {0, 3}, {1, 2}, {1, 3}, {2, 3}};
 }  // namespace
 
 void SystemFactor::prepare(const ClothModel& model) {
-  ready_ = false;
   const int32_t n = model.size();
   const int32_t rows = 3 * n;
   // The pattern: every entry of each block in the lower triangle, as zeros.
@@ -30,10 +27,12 @@ void SystemFactor::prepare(const ClothModel& model) {
   for (const BendingElement& b : model.bending)
     for (const auto& pair : kPairs)
       pattern(std::max(b.v[pair[0]], b.v[pair[1]]), std::min(b.v[pair[0]], b.v[pair[1]]));
-  lower_.resize(rows, rows);
-  lower_.setFromTriplets(entries.begin(), entries.end());  // duplicates sum (to zero)
-  lower_.makeCompressed();
-  entries = {};
+  {
+    Eigen::SparseMatrix<double> lower(rows, rows);
+    lower.setFromTriplets(entries.begin(), entries.end());  // duplicates sum (to zero)
+    entries = {};
+    cholesky_.analyse(lower);
+  }
 
   diag_at_.resize(n);
   for (int32_t i = 0; i < n; ++i) diag_at_[i] = find(i, i);
@@ -52,41 +51,30 @@ void SystemFactor::prepare(const ClothModel& model) {
       bending_transposed_[6 * e + k] = p < q;
       bending_at_[6 * e + k] = find(std::max(p, q), std::min(p, q));
     }
-  llt_.analyzePattern(lower_);
-  entries_ = 0;
-  factorise_work_ = 0.0;
-  for (int32_t c = 0; c < rows; ++c) {
-    const double below = llt_.column_entries()[c];  // below the diagonal
-    entries_ += static_cast<int64_t>(below) + 1;
-    factorise_work_ += (below + 1) * (below + 1);
-  }
   work_.resize(rows);
 }
 
 SystemFactor::BlockAt SystemFactor::find(int32_t row, int32_t col) const {
   BlockAt at{};
-  for (int c = 0; c < 3; ++c) {
-    const int32_t column = 3 * col + c;
-    const int* begin = lower_.innerIndexPtr() + lower_.outerIndexPtr()[column];
-    const int* end = lower_.innerIndexPtr() + lower_.outerIndexPtr()[column + 1];
-    const int first = 3 * row + (row == col ? c : 0);  // a diagonal block's lower part
-    at[c] = static_cast<int32_t>(std::lower_bound(begin, end, first) - lower_.innerIndexPtr());
-  }
+  int k = 0;
+  for (int c = 0; c < 3; ++c)
+    for (int r = row == col ? c : 0; r < 3; ++r)
+      at[k++] = static_cast<int32_t>(cholesky_.find(3 * row + r, 3 * col + c));
   return at;
 }
 
 void SystemFactor::add_block(const BlockAt& at, bool diagonal, bool transposed, const Mat3& block) {
-  double* values = lower_.valuePtr();
+  double* values = cholesky_.values();
+  int k = 0;
   for (int c = 0; c < 3; ++c)
     for (int r = diagonal ? c : 0; r < 3; ++r)
-      values[at[c] + r - (diagonal ? c : 0)] += transposed ? block(c, r) : block(r, c);
+      values[at[k++]] += transposed ? block(c, r) : block(r, c);
 }
 
 bool SystemFactor::factorise(const ClothModel& model, const std::vector<Mat3>& diag,
                              const std::vector<Mat3>& spring_block, double h,
                              const std::vector<Mat3>& filter) {
-  ready_ = false;
-  std::fill(lower_.valuePtr(), lower_.valuePtr() + lower_.nonZeros(), 0.0);
+  std::fill(cholesky_.values(), cholesky_.values() + cholesky_.nonzeros(), 0.0);
   const Mat3 I = Mat3::Identity();
   auto filtered = [&](int32_t p, const Mat3& a, int32_t q) -> Mat3 {
     return filter[p] * a * filter[q];  // S_p·A_pq·S_q
@@ -110,28 +98,25 @@ bool SystemFactor::factorise(const ClothModel& model, const std::vector<Mat3>& d
                 filtered(b.v[p], a * b.w[p] * b.w[q] * I, b.v[q]));
     }
   }
-  llt_.factorize(lower_);
-  ready_ = llt_.info() == Eigen::Success;
-  return ready_;
+  return cholesky_.factorise();
 }
 
 void SystemFactor::apply(const std::vector<Vec3>& r, const std::vector<Mat3>& filter,
                          std::vector<Vec3>& out) {
-  // Â⁻¹ = Pᵀ·L⁻ᵀ·L⁻¹·P by hand: Eigen's solve() allocates for its permutations.
-  const int* p = llt_.permutationP().indices().data();
+  // Â⁻¹ = Pᵀ·L⁻ᵀ·L⁻¹·P.
+  const int* p = cholesky_.permutation().data();
   const int32_t n = static_cast<int32_t>(r.size());
   for (int32_t i = 0; i < n; ++i) {
     const Vec3 sr = filter[i] * r[i];
     for (int c = 0; c < 3; ++c) work_(p[3 * i + c]) = sr[c];
   }
-  llt_.matrixL().solveInPlace(work_);
-  llt_.matrixU().solveInPlace(work_);
+  cholesky_.solve_in_place(work_);
   for (int32_t i = 0; i < n; ++i)
     out[i] = filter[i] * Vec3(work_(p[3 * i]), work_(p[3 * i + 1]), work_(p[3 * i + 2]));
 }
 
 int64_t SystemFactor::bytes() const {
-  return sparse_bytes(lower_) + (ready_ ? factor_bytes(llt_) : 0) +
+  return cholesky_.bytes() +
          heap_bytes(diag_at_, spring_at_, spring_transposed_, bending_at_, bending_transposed_) +
          work_.size() * int64_t{sizeof(double)};
 }

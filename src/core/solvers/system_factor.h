@@ -19,14 +19,13 @@
 // 20 (measured on one core), so it pays only where CG would otherwise take hundreds.
 #pragma once
 
-#include <Eigen/SparseCholesky>
-#include <Eigen/SparseCore>
 #include <array>
 #include <cstdint>
 #include <vector>
 
 #include "drape/cloth.h"
 #include "drape/math.h"
+#include "sparse_cholesky.h"
 
 namespace drape {
 
@@ -44,51 +43,42 @@ class SystemFactor {
   /// counts the factor's entries. Forgets any factor.
   void prepare(const ClothModel& model);
 
-  /// The factor's size and work, known from prepare(): its entries (a solve with it reads each
-  /// twice) and Σ over its columns of their entries squared (a factorisation's multiplications).
-  int64_t entries() const { return entries_; }
-  double factorise_work() const { return factorise_work_; }
+  /// The factor's size and work, known from prepare() (SparseCholesky's).
+  int64_t entries() const { return cholesky_.entries(); }
+  double factorise_work() const { return cholesky_.factorise_work(); }
 
   /// Factorises Â from the system's per-particle diagonal blocks `diag` (mass, springs and
   /// bending included), each spring's block `spring_block` (its coupling is −block), the
   /// bending elements' weight (h²k + h·d per element, from the model and h) and the filter
   /// (per particle: I, a projection, or 0 for a pinned one). Returns false (and keeps no
-  /// factor) when Â is not positive definite, which a sound system never is.
+  /// factor) when Â is not positive definite, which a sound system never is. Allocates
+  /// nothing up to 5461 particles (SparseCholesky::factorise).
   bool factorise(const ClothModel& model, const std::vector<Mat3>& diag,
                  const std::vector<Mat3>& spring_block, double h, const std::vector<Mat3>& filter);
 
-  bool ready() const { return ready_; }
+  bool ready() const { return cholesky_.ready(); }
 
   /// out = S·Â⁻¹·S·r with S the filter given now. Allocates nothing.
   void apply(const std::vector<Vec3>& r, const std::vector<Mat3>& filter, std::vector<Vec3>& out);
 
-  /// Heap bytes: the pattern's offsets, the matrix and its factor.
+  /// Heap bytes: the entries' places, the matrix and its factor.
   int64_t bytes() const;
 
  private:
-  // Where a 3×3 block's three columns start in the lower triangle's value array (the block's
-  // first stored row in each column; the rows of a column follow one another).
-  using BlockAt = std::array<int32_t, 3>;
-  // An off-diagonal block of the lower triangle: rows of particle `row`, columns of `col`.
+  // Where a 3×3 block's entries lie in the matrix's values, row by row within each column
+  // (a diagonal block's lower triangle only: its first six).
+  using BlockAt = std::array<int32_t, 9>;
+  // The block of rows of particle `row` and columns of `col` (row ≥ col).
   BlockAt find(int32_t row, int32_t col) const;
   void add_block(const BlockAt& at, bool diagonal, bool transposed, const Mat3& block);
 
-  Eigen::SparseMatrix<double> lower_;  // the lower triangle of Â (3 rows per particle)
-  // Eigen's LLT, which counts its columns' entries in analyzePattern: kept, for the costs.
-  class Llt : public Eigen::SimplicialLLT<Eigen::SparseMatrix<double>, Eigen::Lower> {
-   public:
-    const auto& column_entries() const { return m_nonZerosPerCol; }
-  };
-  Llt llt_;
-  int64_t entries_ = 0;
-  double factorise_work_ = 0.0;
+  SparseCholesky cholesky_;                 // of Â, 3 rows per particle
   std::vector<BlockAt> diag_at_;            // per particle
   std::vector<BlockAt> spring_at_;          // per spring
   std::vector<uint8_t> spring_transposed_;  // 1: stored as the (j, i) block
   std::vector<BlockAt> bending_at_;         // per element, its 6 corner pairs (a < b)
   std::vector<uint8_t> bending_transposed_;
   Eigen::VectorXd work_;  // the permuted right-hand side, solved in place
-  bool ready_ = false;
 };
 
 }  // namespace drape

@@ -1,0 +1,61 @@
+#include "sparse_cholesky.h"
+
+#include <Eigen/OrderingMethods>
+#include <algorithm>
+
+#include "sparse_bytes.h"
+
+namespace drape {
+
+void SparseCholesky::analyse(const Eigen::SparseMatrix<double>& a) {
+  ready_ = false;
+  const Eigen::SparseMatrix<double> lower = a.triangularView<Eigen::Lower>();
+  // AMD orders the symmetric pattern (it reads lower + lowerᵀ) and gives the inverse
+  // permutation; P·A·Pᵀ moves a's row i to P.indices()[i].
+  Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> inverse;
+  Eigen::AMDOrdering<int>()(lower, inverse);
+  const Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> p = inverse.inverse();
+  permutation_.assign(p.indices().data(), p.indices().data() + p.size());
+
+  // The upper triangle of P·A·Pᵀ, as SimplicialLLT::factorize makes it (the same entries in the
+  // same order within each column, so the same bits as Eigen's own path).
+  matrix_.resize(a.rows(), a.cols());
+  matrix_.selfadjointView<Eigen::Upper>() = lower.selfadjointView<Eigen::Lower>().twistedBy(p);
+  matrix_.makeCompressed();
+
+  llt_.analyzePattern(matrix_);  // natural order: reads matrix_ as it is
+  entries_ = 0;
+  factorise_work_ = 0.0;
+  for (int c = 0; c < matrix_.cols(); ++c) {
+    const double below = llt_.column_entries()[c];  // below the diagonal
+    entries_ += static_cast<int64_t>(below) + 1;
+    factorise_work_ += (below + 1) * (below + 1);
+  }
+}
+
+int64_t SparseCholesky::find(int32_t row, int32_t col) const {
+  const int r = permutation_[row], c = permutation_[col];
+  const int i = std::min(r, c), j = std::max(r, c);
+  // A column's rows are in the order the permutation left them (unsorted): searched through.
+  for (int k = matrix_.outerIndexPtr()[j]; k < matrix_.outerIndexPtr()[j + 1]; ++k)
+    if (matrix_.innerIndexPtr()[k] == i) return k;
+  return -1;
+}
+
+bool SparseCholesky::factorise() {
+  llt_.factorise(matrix_);
+  ready_ = llt_.info() == Eigen::Success;
+  return ready_;
+}
+
+void SparseCholesky::solve_in_place(Eigen::Ref<Eigen::VectorXd> x) const {
+  llt_.matrixL().solveInPlace(x);
+  llt_.matrixU().solveInPlace(x);
+}
+
+int64_t SparseCholesky::bytes() const {
+  return sparse_bytes(matrix_) + (ready_ ? factor_bytes(llt_) : 0) +
+         static_cast<int64_t>(permutation_.capacity() * sizeof(int));
+}
+
+}  // namespace drape
