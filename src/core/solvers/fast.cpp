@@ -65,6 +65,7 @@ class Fast final : public Solver {
     ClothState& s = w.state;
     const ClothModel& m = w.model;
     const int32_t n = m.size();
+    const std::vector<int>& perm = cholesky_.permutation();  // unknown → row of the factor
     for (int k = 0; k < substeps_; ++k) {
       if (k > 0 && w.stop_here()) break;
       w.pose_colliders(w.time + k * h_, w.time + (k + 1) * h_);
@@ -80,7 +81,7 @@ class Fast final : public Solver {
         for (int32_t i = 0; i < n; ++i) {
           const int32_t f = free_[i];
           if (f < 0) continue;
-          const int32_t row = perm_[f];  // undo the permutation: x = Pᵀ·(P·x)
+          const int32_t row = perm[f];  // undo the permutation: x = Pᵀ·(P·x)
           const Vec3 xhat(X_(row, 0), X_(row, 1), X_(row, 2));
           const Vec3 next = omega * (xhat - xkm1_[i]) + xkm1_[i];
           xkm1_[i] = xk_[i];
@@ -112,8 +113,8 @@ class Fast final : public Solver {
     // The factor L and the system matrix kept for refactorising (with its diagonal); the
     // factorisation keeps a few more integers per unknown (permutations, elimination tree).
     return cholesky_.bytes() + (diagonal_.size() + X_.size()) * int64_t{sizeof(double)} +
-           heap_bytes(held_, held_now_, free_, perm_, diag_at_, x0_, y_, xk_, xkm1_, b0_, rhs_,
-                      force_, contact_n_, contact_surface_, contact_dvn_, contact_mu_);
+           heap_bytes(held_, held_now_, free_, diag_at_, x0_, y_, xk_, xkm1_, b0_, rhs_, force_,
+                      contact_n_, contact_surface_, contact_dvn_, contact_mu_);
   }
 
  private:
@@ -199,7 +200,6 @@ class Fast final : public Solver {
     }
     diag_at_.resize(free);
     for (int32_t f = 0; f < free; ++f) diag_at_[f] = cholesky_.find(f, f);
-    perm_ = free > 0 ? cholesky_.permutation() : std::vector<int32_t>{};
     held_.assign(n, 0);
     held_now_.assign(n, 0);
     if (free > 0) refactorise();
@@ -333,7 +333,7 @@ class Fast final : public Solver {
     for (int32_t i = 0; i < n; ++i) {
       const int32_t f = free_[i];
       if (f < 0) continue;
-      const int32_t row = perm_[f];
+      const int32_t row = cholesky_.permutation()[f];
       X_(row, 0) = rhs_[i].x();
       X_(row, 1) = rhs_[i].y();
       X_(row, 2) = rhs_[i].z();
@@ -356,7 +356,7 @@ class Fast final : public Solver {
   }
 
   // 3. Global step: L·Lᵀ·(P·x) = P·b, the three coordinates side by side (one thread each),
-  // in place. The result stays permuted: unknown f is row perm_[f].
+  // in place. The result stays permuted: unknown f is row permutation()[f].
   void global_solve() {
     if (free_count_ == 0) return;
     [[maybe_unused]] const int threads = std::min(3, max_threads());
@@ -399,7 +399,6 @@ class Fast final : public Solver {
   double contact_weight_ = 0.0;   // kg, w of the contact term (0 without colliders)
   int32_t free_count_ = 0;
   std::vector<int32_t> free_;  // particle → unknown, −1 when fixed
-  std::vector<int32_t> perm_;  // unknown → row of the permuted system
   // M + hC + h²L, plus w on the held particles, and its factor.
   SparseCholesky cholesky_;
   std::vector<int64_t> diag_at_;  // unknown → its diagonal entry in cholesky_.values()
