@@ -215,12 +215,12 @@ TEST(FeaturePush, ATriangleOverACornerIsPushedOutAlongItsNormal) {
              d = Vec3(-0.15, -0.15, 0.3) + sink;
   double w[3], depth = 0.0;
   Vec3 n;
-  ASSERT_TRUE(corner_triangle_push(c, faces, a, b, d, 0.005, 0, w, n, depth));
+  ASSERT_TRUE(corner_triangle_push(c, faces, a, b, d, 0.005, 1.0, 0, w, n, depth));
   EXPECT_TRUE(n.isApprox(Vec3(1.0, 1.0, 1.0).normalized(), 1e-12));
   EXPECT_NEAR(depth, 0.015, 1e-12);
   for (double wk : w) EXPECT_NEAR(wk, 1.0 / 3.0, 1e-12);
   // Wound the other way, the same push (the side is the corner's, not the winding's).
-  ASSERT_TRUE(corner_triangle_push(c, faces, a, d, b, 0.005, 0, w, n, depth));
+  ASSERT_TRUE(corner_triangle_push(c, faces, a, d, b, 0.005, 1.0, 0, w, n, depth));
   EXPECT_TRUE(n.isApprox(Vec3(1.0, 1.0, 1.0).normalized(), 1e-12));
   // A triangle that started the frame on the far side (the corner poking out beyond it, as a
   // box's foot does through the ground round it) is held there instead, at the gap.
@@ -228,17 +228,69 @@ TEST(FeaturePush, ATriangleOverACornerIsPushedOutAlongItsNormal) {
   EXPECT_EQ(corner_side(c, a, b, d, 0.005), -1);  // 1 cm below, by its winding's normal
   EXPECT_EQ(corner_side(c, a - sink, b - sink, d - sink, 0.005), 0);
   EXPECT_EQ(corner_side(c, a + 0.1 * up, b + 0.1 * up, d + 0.1 * up, 0.005), 1);
-  EXPECT_FALSE(corner_triangle_push(c, faces, a, b, d, 0.005, -1, w, n, depth));
+  EXPECT_FALSE(corner_triangle_push(c, faces, a, b, d, 0.005, 1.0, -1, w, n, depth));
   const Vec3 near = -0.002 * up - sink;  // 2 mm below
-  ASSERT_TRUE(corner_triangle_push(c, faces, a + near, b + near, d + near, 0.005, -1, w, n, depth));
+  ASSERT_TRUE(
+      corner_triangle_push(c, faces, a + near, b + near, d + near, 0.005, 1.0, -1, w, n, depth));
   EXPECT_TRUE(n.isApprox(-up, 1e-12));
   EXPECT_NEAR(depth, 0.003, 1e-12);
   // Above by more than the gap, or not over the corner: nothing.
   EXPECT_FALSE(corner_triangle_push(c, faces, a - 3.0 * sink, b - 3.0 * sink, d - 3.0 * sink, 0.005,
-                                    0, w, n, depth));
+                                    1.0, 0, w, n, depth));
   const Vec3 aside(0.5, 0.0, -0.5);
   EXPECT_FALSE(
-      corner_triangle_push(c, faces, a + aside, b + aside, d + aside, 0.005, 0, w, n, depth));
+      corner_triangle_push(c, faces, a + aside, b + aside, d + aside, 0.005, 1.0, 0, w, n, depth));
+}
+
+// A cube's corner at the origin, the body where x < 0, y > 0 and z > 0 (faces +x, −y, −z), and
+// a cloth triangle draped over the edge that leaves the corner along +y, 2 to 7 cm from it
+// (taken from a run where `fast` let it happen): its plane is steep to the edge, so the
+// corner's projection falls inside it and the corner lies 3.4 cm beyond its plane, but no point
+// of it is inside the body. It is the edge's to hold, not the corner's: pushed across the
+// corner it was wrapped round to the corner's far side, the corner through its neighbours.
+TEST(FeaturePush, ATriangleOverAnEdgeBesideTheCornerIsNotPushedAcrossIt) {
+  SharpFeatures::Corner c{Vec3::Zero(), Vec3(1.0, -1.0, -1.0).normalized(), 0, 3};
+  const Vec3 faces[3] = {Vec3::UnitX(), -Vec3::UnitY(), -Vec3::UnitZ()};
+  const Vec3 a(-0.02501, 0.01675, -0.01962), b(0.02963, 0.06972, 0.00127),
+      d(0.00310, 0.02851, -0.02582);
+  double w[3], depth = 0.0;
+  Vec3 n;
+  // As said: the corner beyond the plane, over the triangle, and no point of it in the body.
+  const Vec3 normal = (b - a).cross(d - a).normalized();
+  const Vec3 foot = c.p - normal.dot(c.p - a) * normal;
+  EXPECT_GT(std::abs(normal.dot(c.p - a)), 0.03);
+  EXPECT_TRUE(over_face(foot, a, b, d, 0.0).interior);
+  for (int i = 0; i <= 50; ++i)
+    for (int j = 0; i + j <= 50; ++j) {
+      const Vec3 q = a + (i / 50.0) * (b - a) + (j / 50.0) * (d - a);
+      ASSERT_FALSE(q.x() < 0.0 && q.y() > 0.0 && q.z() > 0.0) << i << " " << j;
+    }
+  EXPECT_FALSE(corner_triangle_push(c, faces, a, b, d, 0.005, 1.0, 0, w, n, depth)) << depth;
+}
+
+// The same corner, the body above it (x < 0, y > 0, z < 0, faces +x, −y, +z), and a level
+// triangle 27 cm above, round the body's far edge: the corner points away from it, 27 cm
+// beyond its plane, and the body's cone by the corner reaches into it. With no side kept
+// from the frame's start, a push along the corner's direction would carry it down through
+// the body. Neither can the corner have come 27 cm in a frame that allowed 2 cm, nor can a
+// corner be that deep through a triangle of 7 cm edges whose corners lie outside it: nothing.
+TEST(FeaturePush, ACornerDeeperThanTheFrameOrTheTriangleAllowsIsNotGuessedThrough) {
+  SharpFeatures::Corner c{Vec3::Zero(), Vec3(1.0, -1.0, 1.0).normalized(), 0, 3};
+  const Vec3 faces[3] = {Vec3::UnitX(), -Vec3::UnitY(), Vec3::UnitZ()};
+  const Vec3 a(0.02, 0.27, -0.03), b(-0.03, 0.27, 0.02), d(0.02, 0.27, 0.03);
+  double w[3], depth = 0.0;
+  Vec3 n;
+  EXPECT_FALSE(corner_triangle_push(c, faces, a, b, d, 0.005, 0.02, 0, w, n, depth)) << depth;
+  EXPECT_FALSE(corner_triangle_push(c, faces, a, b, d, 0.005, 1.0, 0, w, n, depth)) << depth;
+  // The same triangle three times as large (its corners outside still) is within both.
+  const Vec3 mid = (a + b + d) / 3.0;
+  const Vec3 A = mid + 3.0 * (a - mid), B = mid + 3.0 * (b - mid), D = mid + 3.0 * (d - mid);
+  ASSERT_TRUE(corner_triangle_push(c, faces, A, B, D, 0.005, 1.0, 0, w, n, depth));
+  EXPECT_NEAR(depth, 0.275, 1e-12);
+  // Kept on a side since the frame's start, it is held there however deep.
+  const int up = (b - a).cross(d - a).y() > 0.0 ? 1 : -1;
+  ASSERT_TRUE(corner_triangle_push(c, faces, a, b, d, 0.005, 0.02, -up, w, n, depth));
+  EXPECT_NEAR(depth, 0.275, 1e-12);
 }
 
 // A sheet's rim corner at the origin (the sheet in y = 0 over x < 0, z < 0). A triangle lying
@@ -259,14 +311,16 @@ TEST(FeaturePush, ATriangleFlatRoundASheetsCornerIsPushedTheShorterWayOut) {
   for (const double s : {1.0, -1.0}) {
     const auto x = at(s);
     const Vec3 out = Vec3(-0.01, s, 0.015).normalized();  // its normal, turned down for s < 0
-    ASSERT_TRUE(corner_triangle_push(c, nullptr, x[0], x[1], x[2], 0.005, 0, w, n, depth)) << s;
+    ASSERT_TRUE(corner_triangle_push(c, nullptr, x[0], x[1], x[2], 0.005, 1.0, 0, w, n, depth))
+        << s;
     EXPECT_TRUE(n.isApprox(out, 1e-12)) << s;
     EXPECT_NEAR(depth, 0.005 - lift, 1e-12);
-    ASSERT_TRUE(corner_triangle_push(c, nullptr, x[0], x[2], x[1], 0.005, 0, w, n, depth)) << s;
+    ASSERT_TRUE(corner_triangle_push(c, nullptr, x[0], x[2], x[1], 0.005, 1.0, 0, w, n, depth))
+        << s;
     EXPECT_TRUE(n.isApprox(out, 1e-12)) << s;
   }
   const auto x = at(1.0);  // its winding's normal points up
-  ASSERT_TRUE(corner_triangle_push(c, nullptr, x[0], x[1], x[2], 0.005, -1, w, n, depth));
+  ASSERT_TRUE(corner_triangle_push(c, nullptr, x[0], x[1], x[2], 0.005, 1.0, -1, w, n, depth));
   EXPECT_TRUE(n.isApprox(-Vec3(-0.01, 1.0, 0.015).normalized(), 1e-12));
   EXPECT_NEAR(depth, 0.005 + lift, 1e-12);
 }

@@ -118,6 +118,31 @@ bool rim_corner_push(const SharpFeatures::Corner& c, const Vec3* const x[3], Vec
   return depth > 0.0;
 }
 
+// Whether some part of the triangle x[0..2] lies inside every one of corner c's face planes
+// (faces[0 .. c.count)): the body by the corner reaches into it. The triangle is clipped by each
+// plane in turn (Sutherland–Hodgman); a corner of more faces than the buffer holds counts as
+// reaching in.
+bool reaches_into(const SharpFeatures::Corner& c, const Vec3* faces, const Vec3* const x[3]) {
+  constexpr int kMaxPolygon = 24;
+  if (3 + c.count > kMaxPolygon) return true;
+  std::array<Vec3, kMaxPolygon> polygon, clipped;
+  for (int k = 0; k < 3; ++k) polygon[k] = *x[k] - c.p;
+  int count = 3;
+  for (int f = 0; f < c.count && count > 0; ++f) {
+    int kept = 0;
+    for (int k = 0; k < count; ++k) {
+      const Vec3 &a = polygon[k], &b = polygon[(k + 1) % count];
+      const double da = faces[f].dot(a), db = faces[f].dot(b);
+      if (da <= 0.0) clipped[kept++] = a;
+      if ((da < 0.0 && db > 0.0) || (da > 0.0 && db < 0.0))
+        clipped[kept++] = a + (da / (da - db)) * (b - a);
+    }
+    polygon = clipped;
+    count = kept;
+  }
+  return count > 0;
+}
+
 }  // namespace
 
 bool edge_edge_push(const SharpFeatures::Edge& e, const Vec3& p, const Vec3& q, double gap,
@@ -161,8 +186,8 @@ int corner_side(const SharpFeatures::Corner& c, const Vec3& x0, const Vec3& x1, 
 }
 
 bool corner_triangle_push(const SharpFeatures::Corner& c, const Vec3* faces, const Vec3& x0,
-                          const Vec3& x1, const Vec3& x2, double gap, int side, double w[3],
-                          Vec3& n, double& depth) {
+                          const Vec3& x1, const Vec3& x2, double gap, double reach, int side,
+                          double w[3], Vec3& n, double& depth) {
   const Vec3* x[3] = {&x0, &x1, &x2};
   // As for edges: not wholly beyond one face, and every corner of the triangle outside (a
   // rim's corner has no inside: rim_corner_push).
@@ -185,13 +210,28 @@ bool corner_triangle_push(const SharpFeatures::Corner& c, const Vec3* faces, con
   n = normal / area2;
   w[0] = tp.wa, w[1] = tp.wb, w[2] = tp.wc;
   if (c.rim) return rim_corner_push(c, x, n, side, gap, depth);
-  if (side == 0) {
+  const bool guessed = side == 0;
+  if (guessed) {
     const double facing = n.dot(c.n);
     if (std::abs(facing) < kEdgeOn) return false;
     side = facing < 0.0 ? -1 : 1;
   }
   n *= side;
   const double height = n.dot(x0 - c.p);  // of the triangle's plane above the corner
+  // A corner beyond the triangle's plane pierces it only where the body by the corner reaches
+  // into the triangle: else the triangle lies beside the corner (over one of its edges, its
+  // plane steep to the edge; the edge contacts' to hold). And a side guessed from the corner's
+  // direction, not kept from the frame's start, holds only as deep as the corner can have come
+  // in this frame, and as a corner can pass through a triangle whose corners all lie outside
+  // it (about the triangle's size; twice its longest edge is allowed): deeper, the triangle
+  // lies past the body's far side. Pushed across the corner, either was wrapped round it (4
+  // and 27 cm in one frame, measured before this rule).
+  if (height <= 0.0) {
+    const double longest = std::sqrt(
+        std::max({(x1 - x0).squaredNorm(), (x2 - x1).squaredNorm(), (x0 - x2).squaredNorm()}));
+    if (guessed && -height > std::min(reach, 2.0 * longest)) return false;
+    if (!reaches_into(c, faces, x)) return false;
+  }
   depth = gap - height;
   return depth > 0.0;
 }
@@ -292,15 +332,15 @@ void FeatureContacts::gather(const std::vector<Collider>& colliders,
     hide(colliders, k, g);
     const Mat3 back = c.pose.rotation.transpose();
     for (size_t i = 0; i < start_.size(); ++i) local_[i] = back * (start_[i] - c.pose.translation);
-    const double margin = c.thickness + allowed_ + travel[k];
-    gather(g, margin, c.thickness);
+    g.reach = allowed_ + travel[k];
+    gather(g, c.thickness + g.reach, c.thickness);
     pairs_ += int64_t(g.edge_pairs.size() + g.corner_pairs.size());
     if (c.mesh && !c.mesh->closed()) {
       const size_t before = sheet_pairs_.size();
       for (int32_t i = 0; i < int32_t(start_.size()); ++i) {
         if (state.inv_mass[i] == 0.0 || clear_of(c, start_[i], allowed_ + travel[k])) continue;
         Vec3 n;
-        if (c.mesh->signed_distance(local_[i], n) < margin)
+        if (c.mesh->signed_distance(local_[i], n) < c.thickness + g.reach)
           sheet_pairs_.push_back({c.mesh.get(), i, local_[i]});
       }
       pairs_ += int64_t(sheet_pairs_.size() - before);
@@ -368,8 +408,9 @@ void FeatureContacts::check(const std::vector<Vec3>& x) {
 int64_t FeatureContacts::bytes() const {
   int64_t total = heap_bytes(edges_, triangles_, groups_, sheet_pairs_, start_, local_);
   for (const Group& g : groups_) {
-    total += heap_bytes(g.edge_pairs, g.corner_pairs, g.lo, g.hi, g.seen, g.hidden, g.edge_grid.begin,
-                        g.edge_grid.entries, g.corner_grid.begin, g.corner_grid.entries);
+    total +=
+        heap_bytes(g.edge_pairs, g.corner_pairs, g.lo, g.hi, g.seen, g.hidden, g.edge_grid.begin,
+                   g.edge_grid.entries, g.corner_grid.begin, g.corner_grid.entries);
   }
   return total;
 }

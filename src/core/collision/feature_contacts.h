@@ -51,12 +51,14 @@ int corner_side(const SharpFeatures::Corner& c, const Vec3& x0, const Vec3& x1, 
                 double gap);
 /// The push that keeps triangle x0 x1 x2 at `gap` beyond corner c (its face normals
 /// faces[0 .. c.count)) on `side` (corner_side at the frame's start; 0: the side the corner
-/// points to), or false where it needs none or they cannot meet (all in one frame); w are the
-/// weights of the corner's projection on the triangle. A triangle that lay beside the body
-/// past the corner at the frame's start (a cloth on the ground round a box's foot) stays there.
+/// points to, where the corner is at most `reach` beyond the triangle: how far the two can
+/// have moved towards each other in the frame), or false where it needs none or they cannot
+/// meet (all in one frame); w are the weights of the corner's projection on the triangle. A
+/// triangle that lay beside the body past the corner at the frame's start (a cloth on the
+/// ground round a box's foot) stays there.
 bool corner_triangle_push(const SharpFeatures::Corner& c, const Vec3* faces, const Vec3& x0,
-                          const Vec3& x1, const Vec3& x2, double gap, int side, double w[3],
-                          Vec3& n, double& depth);
+                          const Vec3& x1, const Vec3& x2, double gap, double reach, int side,
+                          double w[3], Vec3& n, double& depth);
 
 class FeatureContacts {
  public:
@@ -117,6 +119,7 @@ class FeatureContacts {
     std::vector<CornerPair> corner_pairs;
     Grid edge_grid, corner_grid;  ///< edges as 0.., corners after them
     std::vector<Vec3> lo, hi;     ///< each feature's box
+    double reach = 0.0;           ///< m, how far the cloth and the body can near in the frame
     std::vector<int32_t> seen;
     /// 1 for a feature within another collider's thickness (a box's foot on the ground): the
     /// cloth cannot reach it, and pushed from it the cloth would be pinched between the two.
@@ -185,8 +188,8 @@ void FeatureContacts::apply(const std::vector<Collider>& colliders, Cloth& cloth
       const Triangle& tri = triangles_[pair.triangle];
       // (data(): a sheet's rim corners have no face normals, and the list may be empty.)
       if (!corner_triangle_push(corner, f.face_normals.data() + corner.first, local(tri[0]),
-                                local(tri[1]), local(tri[2]), c.thickness, pair.side, push.w,
-                                push.n, push.depth))
+                                local(tri[1]), local(tri[2]), c.thickness, g->reach, pair.side,
+                                push.w, push.n, push.depth))
         continue;
       push.count = 3;
       for (int k = 0; k < 3; ++k) push.index[k] = tri[k];
