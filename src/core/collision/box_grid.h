@@ -56,33 +56,30 @@ class BoxGrid {
   int32_t entry(int64_t e) const { return static_cast<int32_t>(entry_[e] & box_mask_); }
   uint64_t cell_key(int64_t c) const { return entry_[cell_begin_[c]] >> box_bits_; }
 
-  /// Whether cell c is the one where boxes s and t (both entered, overlapping) are reported:
-  /// the cell of the low corner of their overlap, one both entered, so a pair meets once.
-  bool reports_pair_in(int64_t c, int32_t s, int32_t t) const {
-    const Cell &a = cell_lo_[s], &b = cell_lo_[t];
-    return key(std::max(a[0], b[0]), std::max(a[1], b[1]), std::max(a[2], b[2])) == cell_key(c);
-  }
-
  private:
   /// f(s, t) for the entries u in [begin, middle) and w in [middle, end) of cell c, or w after
-  /// u when `within`, whose boxes overlap and which c reports. The cell's boxes are first copied
-  /// side by side (each thread its own copy), so that the overlap tests of one box against the
-  /// rest run as one vectorised loop whose hits are then visited: tested one by one, with a
-  /// branch each and the boxes read where they lie, they took most of self-collision's search.
-  /// The copies only grow, as the grid's own arrays do: a frame allocates only for a cell
-  /// fuller than any before on its thread. Two boxes overlap where lo ≤ the other's hi on every
-  /// axis.
+  /// u when `within`, whose boxes overlap and which c reports: the cell of the low corner of
+  /// their overlap, one both entered, so that a pair meets once. Every box in c has its low
+  /// corner's cell at or below c's on each axis, so c is the overlap's on an axis where one of
+  /// the two boxes starts in c's slab: a bit per axis (`starts`) tells it.
+  ///
+  /// The cell's boxes are first copied side by side (each thread its own copy), so that the
+  /// tests of one box against the rest run as one vectorised loop whose hits are then visited:
+  /// tested one by one, with a branch each and the boxes read where they lie, they took most of
+  /// self-collision's search. The copies only grow, as the grid's own arrays do: a frame
+  /// allocates only for a cell fuller than any before on its thread. Two boxes overlap where
+  /// lo ≤ the other's hi on every axis. Flags and bits are as wide as the corners (64 bits), so
+  /// that the loop vectorises: with bytes GCC left it scalar.
   template <class F>
   void pairs(int64_t c, int64_t begin, int64_t middle, int64_t end, F& f, bool within) const {
     const int32_t count = static_cast<int32_t>(end - begin);
     const int32_t first_w = static_cast<int32_t>(middle - begin);
     thread_local std::vector<double> corners;
     thread_local std::vector<int32_t> ids;
-    // Flags as wide as the corners (64 bits), so that the overlap loop vectorises: with bytes
-    // GCC left it scalar, a compare and a set per axis and box.
-    thread_local std::vector<int64_t> hit;
+    thread_local std::vector<int64_t> starts, hit;
     corners.resize(6 * static_cast<size_t>(count));
     ids.resize(count);
+    starts.resize(count);
     hit.resize(count);
     // The lower corners' x, y, z, then the upper ones', each `count` long.
     double* const lx = corners.data();
@@ -91,24 +88,30 @@ class BoxGrid {
     double* const hx = lz + count;
     double* const hy = hx + count;
     double* const hz = hy + count;
+    const Cell here = cell_of(cell_key(c));
     const Box* box = boxes_->data();
     for (int32_t k = 0; k < count; ++k) {
       const int32_t t = entry(begin + k);
       ids[k] = t;
       lx[k] = box[t].lo.x(), ly[k] = box[t].lo.y(), lz[k] = box[t].lo.z();
       hx[k] = box[t].hi.x(), hy[k] = box[t].hi.y(), hz[k] = box[t].hi.z();
+      const Cell& lo = cell_lo_[t];
+      starts[k] = int64_t{lo[0] == here[0]} | int64_t{lo[1] == here[1]} << 1 |
+                  int64_t{lo[2] == here[2]} << 2;
     }
-    int64_t* const overlaps = hit.data();
+    const int64_t* const start = starts.data();
+    int64_t* const reported = hit.data();
     for (int32_t u = 0; u < first_w; ++u) {
       const double ax = lx[u], ay = ly[u], az = lz[u], bx = hx[u], by = hy[u], bz = hz[u];
+      const int64_t su = start[u];
       const int32_t w0 = within ? u + 1 : first_w;
 #pragma omp simd
       for (int32_t w = w0; w < count; ++w)
-        overlaps[w] = (ax <= hx[w]) & (lx[w] <= bx) & (ay <= hy[w]) & (ly[w] <= by) &
-                      (az <= hz[w]) & (lz[w] <= bz);
+        reported[w] = (ax <= hx[w]) & (lx[w] <= bx) & (ay <= hy[w]) & (ly[w] <= by) &
+                      (az <= hz[w]) & (lz[w] <= bz) & ((su | start[w]) == 7);
       const int32_t s = ids[u];
       for (int32_t w = w0; w < count; ++w)
-        if (overlaps[w] && reports_pair_in(c, s, ids[w])) f(s, ids[w]);
+        if (reported[w]) f(s, ids[w]);
     }
   }
   uint32_t coordinate(double v, int axis) const;
@@ -117,6 +120,12 @@ class BoxGrid {
   }
   uint64_t key(uint32_t i, uint32_t j, uint32_t k) const {
     return (((uint64_t{i} << bits_[1]) | j) << bits_[2]) | k;
+  }
+  Cell cell_of(uint64_t key) const {
+    const uint64_t k = key & ((uint64_t{1} << bits_[2]) - 1);
+    const uint64_t j = (key >> bits_[2]) & ((uint64_t{1} << bits_[1]) - 1);
+    return {static_cast<uint32_t>(key >> (bits_[1] + bits_[2])), static_cast<uint32_t>(j),
+            static_cast<uint32_t>(k)};
   }
 
   Vec3 origin_ = Vec3::Zero();
