@@ -189,24 +189,31 @@ ClothMesh uv_sphere(double radius, int segments, int rings) {
   return m;
 }
 
-// One xpbd frame (20 substeps) of a 64×64 cloth lying on a 0.5 m sphere: the analytic sphere
-// (range(0) = 0) or a closed mesh of about 100 000 triangles (range(0) = 1), queried through
-// its BVH by the generic contact path. The cloth starts at rest on the sphere's top.
-void MeshColliderFrame(benchmark::State& st) {
-  SceneDef def = grid(64);
+// An n×n cloth, level at `height` over a 0.5 m sphere at the origin, for xpbd at 20 substeps.
+SceneDef over_sphere(int n, double height) {
+  SceneDef def = grid(n);
   def.cloth.orientation = Orientation::horizontal;
-  def.cloth.origin = Vec3(-1.0, 0.52, -1.0);
+  def.cloth.origin = Vec3(-1.0, height, -1.0);
   def.cloth.pins.clear();
   def.solver.method = Method::xpbd;
   def.solver.substeps = 20;
   ColliderDef sphere;
   sphere.radius = 0.5;
+  def.colliders = {sphere};
+  return def;
+}
+
+// One xpbd frame (20 substeps) of a 64×64 cloth lying on a 0.5 m sphere: the analytic sphere
+// (range(0) = 0) or a closed mesh of about 100 000 triangles (range(0) = 1), queried through
+// its BVH by the generic contact path. The cloth starts at rest on the sphere's top.
+void MeshColliderFrame(benchmark::State& st) {
+  SceneDef def = over_sphere(64, 0.52);
+  ColliderDef& sphere = def.colliders.front();
   if (st.range(0)) {
     sphere.type = ColliderType::mesh;
     sphere.mesh = std::make_shared<const ClothMesh>(uv_sphere(0.5, 256, 197));
     sphere.transform.rotate = Vec3(90.0, 0.0, 0.0);  // no pole under the cloth's middle
   }
-  def.colliders = {sphere};
   Simulation sim(def);
   for (int f = 0; f < 30; ++f) sim.step();  // draped: most particles touch or nearly
   for (auto _ : st) sim.step();
@@ -218,16 +225,7 @@ BENCHMARK(MeshColliderFrame)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 // grid over its edges' boxes, widened by half the default reach (half the mean edge), built,
 // then every overlapping pair visited, cell by cell on one thread. Counts the pairs.
 void EdgeBoxPairs(benchmark::State& st) {
-  SceneDef def = grid(static_cast<int>(st.range(0)));
-  def.cloth.orientation = Orientation::horizontal;
-  def.cloth.origin = Vec3(-1.0, 0.7, -1.0);
-  def.cloth.pins.clear();
-  def.solver.method = Method::xpbd;
-  def.solver.substeps = 20;
-  ColliderDef sphere;
-  sphere.radius = 0.5;
-  def.colliders = {sphere};
-  Simulation sim(def);
+  Simulation sim(over_sphere(static_cast<int>(st.range(0)), 0.7));
   for (int f = 0; f < 30; ++f) sim.step();
   const std::vector<Vec3>& x = sim.state().x;
   const double margin = 0.25 * sim.model().mean_edge;
