@@ -12,6 +12,7 @@
 #include "forces.h"
 #include "forces/bending.h"
 #include "forces/bending_damping.h"
+#include "forces/bending_matrix.h"
 #include "io/scene_io.h"
 #include "lab/cusick.h"
 #include "lab/elastica.h"
@@ -253,6 +254,59 @@ TEST(BendingForce, IsNegativeGradientOfEnergyWithAConstantHessian) {
     const Vec3 fd = forces::bending_force(b, 3, m.rest_position, moving);
     EXPECT_NEAR(fd.y(), -b.damping * b.w[3] * b.w[2], 1e-15);
   }
+}
+
+// The elements gathered into K and D (forces::BendingMatrix, the rows implicit and symplectic
+// multiply by) against the elements' own forces summed one by one, on an irregular mesh: the
+// same force on every particle, the same combination a·K + b·D, symmetric, and built again when
+// an element's stiffness changes.
+TEST(BendingMatrix, RowsGiveTheElementsSummedForces) {
+  ClothModel m = build_model(material_mesh("denim", 6));
+  ASSERT_FALSE(m.bending.empty());
+  const int32_t n = m.size();
+  std::vector<Vec3> x = m.rest_position, v(n), p(n);
+  for (int32_t i = 0; i < n; ++i) {
+    x[i] += 0.05 * Vec3(std::sin(1.3 * i), std::cos(2.1 * i), std::sin(0.7 * i + 2.0));
+    v[i] = Vec3(std::cos(0.9 * i), std::sin(1.7 * i), std::cos(0.4 * i + 1.0));
+    p[i] = Vec3(std::sin(0.3 * i + 1.0), std::cos(1.1 * i), std::sin(2.3 * i));
+  }
+  forces::BendingMatrix matrix;
+  matrix.prepare(m);
+  const double a = 2.7e-4, b = 1.6e-2;
+  matrix.combine(a, b);
+  std::vector<Vec3> force(n, Vec3::Zero()), combined(n, Vec3::Zero());
+  std::vector<double> diagonal(n, 0.0);
+  for (const BendingElement& e : m.bending) {
+    const Vec3 c = (a * e.stiffness + b * e.damping) * forces::bending_vector(e, p);
+    for (int k = 0; k < 4; ++k) {
+      force[e.v[k]] += forces::bending_force(e, k, x, v);
+      combined[e.v[k]] += e.w[k] * c;
+      diagonal[e.v[k]] += (a * e.stiffness + b * e.damping) * e.w[k] * e.w[k];
+    }
+  }
+  double scale = 0.0;
+  for (int32_t i = 0; i < n; ++i) scale = std::max(scale, force[i].norm());
+  ASSERT_GT(scale, 0.0);
+  for (int32_t i = 0; i < n; ++i) {
+    EXPECT_LT((-matrix.force_row(i, x, v) - force[i]).norm(), 1e-12 * scale) << i;
+    EXPECT_LT((matrix.combined_row(i, p) - combined[i]).norm(), 1e-12 * scale) << i;
+    EXPECT_NEAR(matrix.combined_diagonal(i), diagonal[i], 1e-12 * (1.0 + diagonal[i])) << i;
+    matrix.for_row(i, [&](int32_t j, double k, double d) {
+      bool found = false;
+      matrix.for_row(j, [&](int32_t l, double kt, double dt) {
+        if (l != i) return;
+        found = true;
+        EXPECT_EQ(kt, k);
+        EXPECT_EQ(dt, d);
+      });
+      EXPECT_TRUE(found) << i << " " << j;
+    });
+  }
+  // A stiffer element: prepare() sees the change.
+  const Vec3 before = matrix.force_row(m.bending[0].v[0], x, v);
+  m.bending[0].stiffness *= 2.0;
+  matrix.prepare(m);
+  EXPECT_NE(matrix.force_row(m.bending[0].v[0], x, v), before);
 }
 
 // Backward Euler for the bending elements' damping, (M + dt·D)·v' = M·v, against a dense

@@ -4,14 +4,6 @@
 
 namespace drape::forces {
 
-void add_bending(const ClothModel& model, const std::vector<Vec3>& x, const std::vector<Vec3>& v,
-                 std::vector<Vec3>& f) {
-  for (const BendingElement& b : model.bending) {
-    const Vec3 c = b.stiffness * bending_vector(b, x) + b.damping * bending_vector(b, v);
-    for (int k = 0; k < 4; ++k) f[b.v[k]] -= b.w[k] * c;
-  }
-}
-
 double bending_energy(const ClothModel& model, const std::vector<Vec3>& x) {
   double e = 0.0;
   for (const BendingElement& b : model.bending) e += bending_energy(b, x);

@@ -27,11 +27,6 @@ inline Vec3 bending_force(const BendingElement& b, int k, const std::vector<Vec3
   return -b.w[k] * (b.stiffness * bending_vector(b, x) + b.damping * bending_vector(b, v));
 }
 
-/// Adds every element's elastic and damping forces to f (N), one thread (an element touches
-/// four particles, which the springs' colours do not separate).
-void add_bending(const ClothModel& model, const std::vector<Vec3>& x, const std::vector<Vec3>& v,
-                 std::vector<Vec3>& f);
-
 /// Σ ½k|c|² over the model's elements (J).
 double bending_energy(const ClothModel& model, const std::vector<Vec3>& x);
 

@@ -23,7 +23,7 @@
 #include <memory>
 
 #include "forces.h"
-#include "forces/bending.h"
+#include "forces/bending_matrix.h"
 #include "long_range.h"
 #include "parallel.h"
 #include "solver.h"
@@ -41,7 +41,9 @@ namespace {
 // and on the lab's strip (they weigh the choices against each other; no time is promised).
 constexpr double kJacobiNsPerParticle = 9.0;  // a block-Jacobi CG iteration: multiply, vectors
 constexpr double kJacobiNsPerSpring = 4.0;
-constexpr double kJacobiNsPerElement = 9.0;  // a bending element
+// A bending element, through the rows of forces::BendingMatrix: 3.1 ns fitted to the
+// iterations timed on 32² and 64² denim (2026-12-06), 9 ns while the elements were looped over.
+constexpr double kJacobiNsPerElement = 3.0;
 constexpr double kSolveNsPerEntry = 2.2;     // a solve with the factor, per entry of L
 constexpr double kFactoriseNsPerWork = 0.4;  // per unit of SystemFactor::factorise_work()
 // Block-Jacobi solves that take fewer iterations than this never look at a factor (its pattern,
@@ -94,6 +96,8 @@ class Implicit final : public Solver {
     frame_dt_ = def.dt;
     tolerance_ = def.cg_tolerance;
     max_iterations_ = def.cg_max_iterations;
+    bending_.prepare(w.model);
+    list_incident(w.model);
   }
 
   void step_frame(World& w, double dt) override {
@@ -142,6 +146,7 @@ class Implicit final : public Solver {
   int64_t workspace_bytes() const override {
     return heap_bytes(rhs_, force_, dv_, r_, s_, c_, q_, last_dv_, contact_n_, contact_surface_,
                       contact_dvn_, contact_mu_, block_, diag_, precond_, filter_) +
+           heap_bytes(incident_begin_, incident_) + bending_.bytes() +
            (factor_ ? factor_->bytes() : 0);
   }
 
@@ -193,18 +198,23 @@ class Implicit final : public Solver {
         diag_[sp.j] += block_[k];
       }
     }
-    // Bending elements: their Hessian k·w·wᵀ ⊗ I is constant and their damping d·w·wᵀ ⊗ I
-    // too, so each adds (h²k + h·d)·w_a·w_b·I to the system, h·f₀ − h²k·w_a·Σ w_b v_b to the
-    // right-hand side. One thread: an element's four corners are not separated by colours.
-    for (const BendingElement& b : m.bending) {
-      const Vec3 c = forces::bending_vector(b, s.x), cv = forces::bending_vector(b, s.v);
-      const Vec3 f = -(b.stiffness * c + b.damping * cv);
-      const double a = h2 * b.stiffness + h * b.damping;
-      for (int q = 0; q < 4; ++q) {
-        const int32_t p = b.v[q];
-        rhs_[p] += b.w[q] * (h * f - h2 * b.stiffness * cv);
-        force_[p] += b.w[q] * f;
-        diag_[p].diagonal().array() += a * b.w[q] * b.w[q];
+    // Bending elements: their Hessian K = Σ k·w·wᵀ ⊗ I is constant and their damping
+    // D = Σ d·w·wᵀ ⊗ I too, so they add h²K + h·D to the system and h·f₀ − h²·K·v₀ to the
+    // right-hand side, f₀ = −(K·x + D·v).
+    if (!bending_.empty()) {
+      bending_.combine(h2, h);
+#pragma omp parallel for schedule(static) if (worth_threads(n))
+      for (int32_t i = 0; i < n; ++i) {
+        Vec3 kx = Vec3::Zero(), kv = Vec3::Zero(), dv = Vec3::Zero();
+        bending_.for_row(i, [&](int32_t j, double k, double d) {
+          kx += k * s.x[j];
+          kv += k * s.v[j];
+          dv += d * s.v[j];
+        });
+        const Vec3 f = -(kx + dv);
+        rhs_[i] += h * f - h2 * kv;
+        force_[i] += f;
+        diag_[i].diagonal().array() += bending_.combined_diagonal(i);
       }
     }
     // Contacts, the filter S (I, I − nnᵀ or 0), the preconditioner S·P⁻¹·S (zero in the
@@ -289,24 +299,37 @@ class Implicit final : public Solver {
     }
   }
 
-  // q = A·p = M·p + Σ_s D_s·(p_i − p_j) on i, the opposite on j.
+  // q = A·p: on particle i, m_i·p_i + Σ over its springs s to j of D_s·(p_i − p_j) + the
+  // bending elements' (h²K + h·D)·p. Each particle gathers its own row, so one loop shares the
+  // particles out to threads (scattering each spring's product to its two ends instead took a
+  // parallel loop per colour of springs, and their barriers cost a fifth of a 128² solve).
   void multiply(const ClothModel& m, const std::vector<Vec3>& p, std::vector<Vec3>& q) const {
     const int32_t n = m.size();
+    const bool bending = !bending_.empty();
 #pragma omp parallel for schedule(static) if (worth_threads(n))
-    for (int32_t i = 0; i < n; ++i) q[i] = m.mass[i] * p[i];
-    for (int c = 0; c < m.colours(); ++c) {
-      const int32_t begin = m.colour_begin[c], end = m.colour_begin[c + 1];
-#pragma omp parallel for schedule(static) if (colour_in_parallel(m, c))
-      for (int32_t k = begin; k < end; ++k) {
-        const Spring& sp = m.springs[k];
-        const Vec3 y = block_[k] * (p[sp.i] - p[sp.j]);
-        q[sp.i] += y;
-        q[sp.j] -= y;
+    for (int32_t i = 0; i < n; ++i) {
+      Vec3 sum = m.mass[i] * p[i];
+      for (int32_t k = incident_begin_[i]; k < incident_begin_[i + 1]; ++k) {
+        const Incident& e = incident_[k];
+        sum += block_[e.spring] * (p[i] - p[e.other]);
       }
+      if (bending) sum += bending_.combined_row(i, p);
+      q[i] = sum;
     }
-    for (const BendingElement& b : m.bending) {
-      const Vec3 y = (h2_ * b.stiffness + h_ * b.damping) * forces::bending_vector(b, p);
-      for (int k = 0; k < 4; ++k) q[b.v[k]] += b.w[k] * y;
+  }
+
+  // Each particle's springs, for multiply(): by particle, in the springs' order.
+  void list_incident(const ClothModel& m) {
+    const int32_t n = m.size();
+    incident_begin_.assign(n + 1, 0);
+    for (const Spring& sp : m.springs) ++incident_begin_[sp.i + 1], ++incident_begin_[sp.j + 1];
+    for (int32_t i = 0; i < n; ++i) incident_begin_[i + 1] += incident_begin_[i];
+    incident_.resize(incident_begin_[n]);
+    std::vector<int32_t> fill(incident_begin_.begin(), incident_begin_.end() - 1);
+    for (int32_t k = 0; k < static_cast<int32_t>(m.springs.size()); ++k) {
+      const Spring& sp = m.springs[k];
+      incident_[fill[sp.i]++] = {k, sp.j};
+      incident_[fill[sp.j]++] = {k, sp.i};
     }
   }
 
@@ -473,6 +496,12 @@ class Implicit final : public Solver {
   std::vector<Mat3> diag_;             // per particle: the system matrix's diagonal block
   std::vector<Mat3> precond_;          // its inverse, zero on constrained particles
   std::vector<Mat3> filter_;           // per particle: S (I, a projection, 0 when pinned)
+  forces::BendingMatrix bending_;      // the elements' constant K and D
+  struct Incident {
+    int32_t spring, other;  // a spring of the particle, and its other end
+  };
+  std::vector<int32_t> incident_begin_;  // per particle, its first in incident_
+  std::vector<Incident> incident_;
   // The preconditioner of the next solve: block-Jacobi, factor_ as it is, or factor_ made anew
   // for it (then `factor`).
   enum class Preconditioner { jacobi, factor, fresh_factor };

@@ -8,8 +8,9 @@
 #include "drape/error.h"
 #include "forces.h"
 #include "forces/bending.h"
-#include "solver.h"
+#include "forces/bending_matrix.h"
 #include "parallel.h"
+#include "solver.h"
 
 namespace drape {
 
@@ -37,6 +38,7 @@ class Symplectic final : public Solver {
   void prepare(const World& w, const SolverDef& def) override {
     force_.assign(w.model.size(), Vec3::Zero());
     frame_dt_ = def.dt;
+    bending_.prepare(w.model);
     if (def.substeps > 0) {
       substeps_ = def.substeps;
       return;
@@ -64,10 +66,13 @@ class Symplectic final : public Solver {
       if (k > 0 && w.stop_here()) break;
       w.pose_colliders(w.time + k * h, w.time + (k + 1) * h);
       // 1. Forces at the start of the substep.
+      const bool bending = !bending_.empty();
 #pragma omp parallel for schedule(static) if (worth_threads(n))
-      for (int32_t i = 0; i < n; ++i) force_[i] = w.model.mass[i] * w.forces.gravity;
+      for (int32_t i = 0; i < n; ++i) {
+        force_[i] = w.model.mass[i] * w.forces.gravity;
+        if (bending) force_[i] -= bending_.force_row(i, s.x, s.v);
+      }
       forces::add_springs(w.model, s.x, s.v, force_);
-      forces::add_bending(w.model, s.x, s.v, force_);
       if (wind) {
         update_normals(w.model, s);
         forces::add_wind(w.model, s, w.forces.wind, w.time + k * h, force_);
@@ -84,13 +89,14 @@ class Symplectic final : public Solver {
   int substeps() const override { return substeps_; }
   bool stretch_is_energy() const override { return true; }
   int64_t workspace_bytes() const override {
-    return heap_bytes(force_);
+    return heap_bytes(force_) + bending_.bytes();
   }
 
  private:
   int substeps_ = 1;
   double frame_dt_ = 0.0;
   std::vector<Vec3> force_;
+  forces::BendingMatrix bending_;  // the elements' constant K and D
 };
 
 }  // namespace
