@@ -100,11 +100,13 @@ TEST(Allocations, ASparseFactorisationAndItsSolvesAllocateNothing) {
   cholesky.analyse(a);
   ASSERT_TRUE(cholesky.factorise());
   Eigen::VectorXd x = Eigen::VectorXd::Ones(n);
+  SparseCholesky::Rows3 three = SparseCholesky::Rows3::Ones(n, 3);
   const long during = allocations_in([&] {
     for (int k = 0; k < 3; ++k) {
       for (int i = 0; i < n; ++i) cholesky.values()[cholesky.find(i, i)] = 5.0 + k;
       ASSERT_TRUE(cholesky.factorise());
       cholesky.solve_in_place(x);
+      cholesky.solve3_in_place(three);
     }
   });
   if (kCounting) {
@@ -120,6 +122,20 @@ TEST(Allocations, ASparseFactorisationAndItsSolvesAllocateNothing) {
   for (int i = 0; i < n; ++i) last.coeffRef(i, i) = 7.0;
   const Eigen::VectorXd product = last * solution;
   for (int i = 0; i < n; ++i) EXPECT_NEAR(product[i], b[i], 1e-12) << i;
+  // Three right-hand sides at once: as three solves, to round-off.
+  SparseCholesky::Rows3 rhs(n, 3);
+  for (int i = 0; i < n; ++i) rhs.row(i) << std::sin(0.1 * i), std::cos(0.3 * i), 1.0 + (i % 7);
+  SparseCholesky::Rows3 together = rhs;
+  cholesky.solve3_in_place(together);
+  for (int c = 0; c < 3; ++c) {
+    Eigen::VectorXd alone = rhs.col(c);
+    cholesky.solve_in_place(alone);
+    for (int i = 0; i < n; ++i)
+      EXPECT_NEAR(together(i, c), alone[i], 1e-14 * (1.0 + std::abs(alone[i]))) << i << " " << c;
+  }
+  // And the first loop's three solves matched the single ones with the same factors.
+  for (int i = 0; i < n; ++i)
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(three(i, c), x[i], 1e-14) << i;
 }
 
 // Frames after the first ones (where the solvers size what they find: contacts, factors)

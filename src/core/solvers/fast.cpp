@@ -355,16 +355,13 @@ class Fast final : public Solver {
                        "positive)");
   }
 
-  // 3. Global step: L·Lᵀ·(P·x) = P·b, the three coordinates side by side (one thread each),
-  // in place. The result stays permuted: unknown f is row permutation()[f].
+  // 3. Global step: L·Lᵀ·(P·x) = P·b, the three coordinates side by side in one pass over the
+  // factor, in place. The result stays permuted: unknown f is row permutation()[f]. (One
+  // coordinate a thread read the factor three times, twice on one thread with two threads: on
+  // 128² denim these solves were nearly all of an iteration.)
   void global_solve() {
     if (free_count_ == 0) return;
-    [[maybe_unused]] const int threads = std::min(3, max_threads());
-#pragma omp parallel for schedule(static) num_threads(threads) if (worth_threads(free_count_))
-    for (int c = 0; c < 3; ++c) {
-      auto col = X_.col(c);
-      cholesky_.solve_in_place(col);
-    }
+    cholesky_.solve3_in_place(X_);
   }
 
   // The local/global iteration replaces each spring's Hessian k·d̂d̂ᵀ by k·I, so the error in
@@ -405,7 +402,7 @@ class Fast final : public Solver {
   Eigen::VectorXd diagonal_;      // the diagonal without the contact term
   std::vector<char> held_;        // 1: the particle carries the contact term in the factor
   std::vector<char> held_now_;    // the same for this substep, decided in inertia()
-  Eigen::Matrix<double, Eigen::Dynamic, 3> X_;
+  SparseCholesky::Rows3 X_;       // the global step's unknowns, x, y and z of each side by side
   std::vector<Vec3> x0_, y_, xk_, xkm1_, b0_, rhs_, force_;
   std::vector<Vec3> contact_n_;        // outward normal of the particle's contact
   std::vector<Vec3> contact_surface_;  // the velocity of the surface it touches (m/s)

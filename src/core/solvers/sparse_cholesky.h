@@ -33,6 +33,11 @@ class SparseCholesky {
   /// Solves L·Lᵀ·x = b in place, b and x in the permuted order: row permutation()[i] is a's
   /// row i. Allocates nothing.
   void solve_in_place(Eigen::Ref<Eigen::VectorXd> x) const;
+  /// The same for three right-hand sides at once, the rows of x (x, y and z of one unknown side
+  /// by side): the factor is read once for the three, where three solves read it three times
+  /// (`fast`, whose iterations are these solves). Allocates nothing.
+  using Rows3 = Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>;
+  void solve3_in_place(Rows3& x) const;
   const std::vector<int>& permutation() const { return permutation_; }
 
   /// From analyse(): the factor's entries (a solve reads each twice) and Σ over its columns of
@@ -51,6 +56,8 @@ class SparseCholesky {
    public:
     void factorise(const Eigen::SparseMatrix<double>& upper) { factorize_preordered<false>(upper); }
     const Eigen::VectorXi& column_entries() const { return m_nonZerosPerCol; }
+    // L by columns, each column's diagonal first, then its rows below in increasing order.
+    const Eigen::SparseMatrix<double>& factor() const { return m_matrix; }
   };
 
   Eigen::SparseMatrix<double> matrix_;  // the upper triangle of P·A·Pᵀ
