@@ -1,9 +1,9 @@
 #include "forces/bending_matrix.h"
 
 #include <algorithm>
-#include <cstring>
 #include <numeric>
 
+#include "fnv.h"
 #include "parallel.h"
 
 namespace drape::forces {
@@ -11,22 +11,16 @@ namespace drape::forces {
 namespace {
 
 // Identifies what the matrices are built from: the particles, each element's corners, weights,
-// stiffness and damping (FNV-1a over their bits).
+// stiffness and damping (their bits).
 uint64_t elements_key(const ClothModel& model) {
-  uint64_t key = 1469598103934665603ull;
-  auto mix = [&](uint64_t v) { key = (key ^ v) * 1099511628211ull; };
-  auto bits = [](double d) {
-    uint64_t u;
-    std::memcpy(&u, &d, sizeof u);
-    return u;
-  };
-  mix(static_cast<uint64_t>(model.size()));
-  mix(model.bending.size());
+  Fnv1a hash;
+  hash.mix(static_cast<uint64_t>(model.size()));
+  hash.mix(model.bending.size());
   for (const BendingElement& b : model.bending) {
-    for (int p = 0; p < 4; ++p) mix(uint32_t(b.v[p])), mix(bits(b.w[p]));
-    mix(bits(b.stiffness)), mix(bits(b.damping));
+    for (int p = 0; p < 4; ++p) hash.mix(uint32_t(b.v[p])), hash.mix_bits(b.w[p]);
+    hash.mix_bits(b.stiffness), hash.mix_bits(b.damping);
   }
-  return key;
+  return hash.key;
 }
 
 }  // namespace

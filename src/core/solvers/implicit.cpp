@@ -22,6 +22,7 @@
 #include <cmath>
 #include <memory>
 
+#include "fnv.h"
 #include "forces.h"
 #include "forces/bending_matrix.h"
 #include "long_range.h"
@@ -471,13 +472,13 @@ class Implicit final : public Solver {
 
   // Identifies the factor's pattern: the particles, the springs' ends, the elements' corners.
   static uint64_t pattern_key(const ClothModel& m) {
-    uint64_t key = 1469598103934665603ull;  // FNV-1a over the indices
-    auto mix = [&](uint64_t v) { key = (key ^ v) * 1099511628211ull; };
-    mix(static_cast<uint64_t>(m.size()));
-    for (const Spring& sp : m.springs) mix((uint64_t(uint32_t(sp.i)) << 32) | uint32_t(sp.j));
+    Fnv1a hash;
+    hash.mix(static_cast<uint64_t>(m.size()));
+    for (const Spring& sp : m.springs)
+      hash.mix((uint64_t(uint32_t(sp.i)) << 32) | uint32_t(sp.j));
     for (const BendingElement& b : m.bending)
-      for (int32_t v : b.v) mix(uint32_t(v));
-    return key;
+      for (int32_t v : b.v) hash.mix(uint32_t(v));
+    return hash.key;
   }
 
   int substeps_ = 1;
