@@ -541,9 +541,6 @@ TEST_P(EveryMethod, AMeshSphereDrapesLikeTheAnalyticSphere) {
 // A patch on a box tilted by θ, friction μ: at rest while tan θ < μ; sliding with the
 // acceleration g(sin θ − μ cos θ) while tan θ > μ (Coulomb; the patch moves as one body).
 TEST_P(EveryMethod, CoulombFrictionHoldsOrSlidesAPatchOnATiltedBox) {
-  if (GetParam().method == Method::fast)
-    GTEST_SKIP() << "fast's friction is not Coulomb's: it creeps at tan θ < μ and slides too "
-                    "fast above (README)";
   const double mu = 0.5;
   for (const double degrees : {20.0, 35.0}) {
     const double theta = degrees * kDeg;
@@ -602,10 +599,12 @@ SceneDef patch_on_a_ball(const Variant& variant) {
 // A patch resting on top of a sphere that turns about the vertical at 90°/s is carried round
 // by friction: a corner turns about the axis with the sphere.
 TEST_P(EveryMethod, ATurningSphereCarriesTheClothOnIt) {
-  if (GetParam().method == Method::fast)
-    GTEST_SKIP() << "fast applies friction only where its inertial target lies inside a "
-                    "collider, so cloth resting on a moving surface is not carried (README)";
   SceneDef def = patch_on_a_ball(GetParam());
+  // fast damps each spring's whole relative velocity (fast.cpp), a rigid turn's included: with
+  // the springs' default damping it brakes the patch more than friction turns it (4° in the
+  // second, measured), so friction is tested here without it.
+  if (GetParam().method == Method::fast)
+    def.cloth.structural.damping = def.cloth.shear.damping = def.cloth.bending.damping = 0.0;
   ColliderDef& sphere = def.colliders.front();
   // Keys a third of a turn apart (a slerp turns the short way), looping every 4 s.
   for (int k = 0; k <= 3; ++k)
@@ -898,9 +897,6 @@ TEST_P(EveryMethod, AClothDroppedOnAThinSheetStaysOnIt) {
 // A patch resting on a ball that the hand carries sideways (the viewer's Shift-drag) goes
 // with it, held by friction; a panel change keeps the ball where the hand left it.
 TEST_P(EveryMethod, TheHandCarriesABallAndTheClothOnIt) {
-  if (GetParam().method == Method::fast)
-    GTEST_SKIP() << "fast applies friction only where its inertial target lies inside a "
-                    "collider, so cloth resting on a moving surface is not carried (README)";
   const SceneDef def = patch_on_a_ball(GetParam());
   Simulation sim(def);
   while (sim.time() < 0.5 - 1e-9) ASSERT_TRUE(sim.step()) << sim.divergence();
