@@ -20,8 +20,9 @@
 // energy into them. The term lives in the factorised matrix, and only particles that need it
 // carry it: on every other particle it would brake all motion (falling included) to a crawl,
 // since w ≫ m. When that set changes the matrix is refactorised numerically (its pattern is
-// fixed). Friction uses the normal velocity change of the projection of y; what the springs
-// still push inside is resolved after the solve as in the other methods.
+// fixed). Coulomb friction acts inside the solve, through where the term pulls (grip()), its
+// bound the normal push of y's projection; what the springs still push inside is resolved
+// after the solve as in the other methods.
 // Pinned and held particles are eliminated (their positions move to the right-hand side), so the
 // factorisation depends on them: prepare() refactorises, and the Simulation calls it whenever
 // pins, the held particle, masses, stiffness or dt change.
@@ -96,7 +97,8 @@ class Fast final : public Solver {
         s.v[i] = (xk_[i] - x0_[i]) / h_;
         if (contact_dvn_[i] > 0.0) {  // on the velocity relative to the surface's
           Vec3 rel = s.v[i] - contact_surface_[i];
-          apply_friction(contact_n_[i], contact_dvn_[i], contact_mu_[i], rel);
+          const double left = contact_dvn_[i] * (1.0 - contact_gripped_[i]);
+          if (left > 0.0) apply_friction(contact_n_[i], left, contact_mu_[i], rel);
           s.v[i] = contact_surface_[i] + rel;
         }
       }
@@ -114,7 +116,7 @@ class Fast final : public Solver {
     // factorisation keeps a few more integers per unknown (permutations, elimination tree).
     return cholesky_.bytes() + (diagonal_.size() + X_.size()) * int64_t{sizeof(double)} +
            heap_bytes(held_, held_now_, free_, diag_at_, x0_, y_, xk_, xkm1_, b0_, rhs_, force_,
-                      contact_n_, contact_surface_, contact_dvn_, contact_mu_);
+                      contact_n_, contact_surface_, contact_dvn_, contact_mu_, contact_gripped_);
   }
 
  private:
@@ -207,6 +209,7 @@ class Fast final : public Solver {
     for (auto* v : {&x0_, &y_, &xk_, &xkm1_, &b0_, &rhs_, &force_, &contact_n_, &contact_surface_})
       v->assign(n, Vec3::Zero());
     contact_dvn_.assign(n, 0.0);
+    contact_gripped_.assign(n, 0.0);
     contact_mu_.assign(n, 0.0);
     X_.setZero(free, 3);
   }
@@ -237,6 +240,7 @@ class Fast final : public Solver {
       // Contacts: the inertial target is moved out of the colliders, so the solve pulls the
       // cloth to the surface rather than into it.
       contact_dvn_[i] = 0.0;
+      contact_gripped_[i] = 0.0;
       if (free_[i] >= 0) {
         // The contact term holds particles whose target lies inside a collider or beyond an
         // attachment's limit, or within this step's travel of either.
@@ -266,9 +270,12 @@ class Fast final : public Solver {
       // x₀ + h·v₀ its slide along the surface was what the iterations left of gravity's pull:
       // 4% of it without Chebyshev, 116% with (its weights, tuned to the springs, overshoot
       // these slow modes), and a patch on a box tilted 35° with μ = 0.5 slid faster than
-      // Coulomb's g(sin θ − μ cos θ) allows.
+      // Coulomb's g(sin θ − μ cos θ) allows. Friction moves that start back (grip()).
       xk_[i] = free_[i] >= 0 ? Vec3(s.x[i] + h_ * s.v[i]) : s.x[i];
-      if (contact_dvn_[i] > 0.0) xk_[i] = y_[i];
+      if (contact_dvn_[i] > 0.0) {
+        xk_[i] = y_[i];
+        pull_back(i, contact_mu_[i] * h_ * contact_dvn_[i], xk_[i]);
+      }
       xkm1_[i] = xk_[i];
     }
     if (contact_weight_ > 0.0 && held_now_ != held_) refactorise();
@@ -289,6 +296,18 @@ class Fast final : public Solver {
     bending_rhs(m);
   }
 
+  // Moves q back against its tangential move this step relative to the surface it touches,
+  // q − x₀ − h·v_surface, by at most `limit` (m); returns how far.
+  double pull_back(int32_t i, double limit, Vec3& q) const {
+    const Vec3& nrm = contact_n_[i];
+    const Vec3 move = q - x0_[i] - h_ * contact_surface_[i];
+    const Vec3 tangential = move - move.dot(nrm) * nrm;
+    const double len = tangential.norm();
+    const double taken = std::min(len, limit);
+    if (taken > 0.0) q -= (taken / len) * tangential;
+    return taken;
+  }
+
   // The bending elements' constant right-hand side: their damping's h·d·w_a·Σ w_b x₀_b, and
   // the coupling to fixed corners, −(h²k + h·d)·w_a·w_b·x_b, moved over from the matrix.
   void bending_rhs(const ClothModel& m) {
@@ -300,6 +319,23 @@ class Fast final : public Solver {
         if (free_[b.v[q]] < 0) fixed += b.w[q] * x0_[b.v[q]];
       for (int p = 0; p < 4; ++p) b0_[b.v[p]] += b.w[p] * (damp - a * fixed);
     }
+  }
+
+  // Coulomb friction inside the solve, for a particle whose target y was pushed out of a
+  // collider by a distance δ (m/h²·δ is the normal force). The contact term w·½|x − p|² pulls
+  // with w·(p − x): p moved back against the particle's tangential move (relative to the
+  // surface) by at most μ·δ·m/w makes that a friction force of at most μ times the normal one,
+  // against the move that springs and gravity make together. The contact term lets a particle
+  // slide only slowly over the iterations (w ≫ m), so the iterations start from y moved back by
+  // at most μ·δ, where a lone particle ends. The part of the limit used in the last iteration
+  // is kept: the velocity friction after the solve takes only what is left. (Friction on the
+  // velocity alone came after the solve had slid the cloth h²·g·sin θ a step: a patch crept
+  // 2.8 cm in 0.5 s down a 20° slope with μ = 0.5, where Coulomb's law holds it. On y's
+  // target itself, b₀, it opposed gravity where the springs were lifting the cloth, and a disc
+  // resting on a ball slid off.)
+  void grip(int32_t i, double mass, Vec3& p) {
+    const double limit = contact_mu_[i] * h_ * contact_dvn_[i] * mass / contact_weight_;
+    contact_gripped_[i] = limit > 0.0 ? pull_back(i, limit, p) / limit : 0.0;
   }
 
   // 2. Local step (the best spring directions for x_k) scattered into the right-hand side
@@ -316,6 +352,7 @@ class Fast final : public Solver {
       Vec3 p = xk_[i], nrm;
       attachments.project(xk_, i, p);
       for (const Collider& col : colliders) project_out(col, p, nrm);
+      if (contact_dvn_[i] > 0.0) grip(i, m.mass[i], p);
       rhs_[i] += contact_weight_ * p;
     }
     for (int c = 0; c < m.colours(); ++c) {
@@ -411,10 +448,11 @@ class Fast final : public Solver {
   std::vector<char> held_now_;    // the same for this substep, decided in inertia()
   SparseCholesky::Rows3 X_;       // the global step's unknowns, x, y and z of each side by side
   std::vector<Vec3> x0_, y_, xk_, xkm1_, b0_, rhs_, force_;
-  std::vector<Vec3> contact_n_;        // outward normal of the particle's contact
-  std::vector<Vec3> contact_surface_;  // the velocity of the surface it touches (m/s)
-  std::vector<double> contact_dvn_;    // its normal velocity change (m/s), 0 = no contact
-  std::vector<double> contact_mu_;     // its friction coefficient
+  std::vector<Vec3> contact_n_;          // outward normal of the particle's contact
+  std::vector<Vec3> contact_surface_;    // the velocity of the surface it touches (m/s)
+  std::vector<double> contact_dvn_;      // its normal velocity change (m/s), 0 = no contact
+  std::vector<double> contact_mu_;       // its friction coefficient
+  std::vector<double> contact_gripped_;  // the part of its friction the solve used, 0…1
 };
 
 }  // namespace
