@@ -511,10 +511,16 @@ class EveryMethod : public ::testing::TestWithParam<Variant> {};
 // draped over each comes to the same rest shape within 1 cm.
 TEST_P(EveryMethod, AMeshSphereDrapesLikeTheAnalyticSphere) {
   SceneDef def = testing_support::with(bare(), GetParam());
-  def.cloth.cols = def.cloth.rows = 16;
-  def.cloth.width = def.cloth.height = 1.0;  // small enough to rest without folds
+  // A strip 1 m long laid across the top: it bends over the sphere along a great circle with
+  // nothing to buckle, so its rest shape is one. (A 1 m square's rim wrinkles: an analytic
+  // sphere 40 µm larger moved implicit's rest shape 1.5 cm, measured; the test compared
+  // wrinkles, not colliders.)
+  def.cloth.cols = 16;
+  def.cloth.rows = 3;
+  def.cloth.width = 1.0;
+  def.cloth.height = 0.12;
   def.cloth.orientation = Orientation::horizontal;
-  def.cloth.origin = Vec3(-0.5, 0.55, -0.5);
+  def.cloth.origin = Vec3(-0.5, 0.55, -0.06);
   def.forces.gravity = Vec3(0.0, -9.81, 0.0);
   def.forces.air_drag = 0.01;
   ColliderDef sphere;

@@ -220,11 +220,7 @@ class Fast final : public Solver {
     ClothState& s = w.state;
     const ClothModel& m = w.model;
     const int32_t n = m.size();
-    forces::apply_drag(w.air_drag(), s.inv_mass, h_, s.v);
-    if (w.area_drag()) {
-      update_normals(m, s);
-      forces::apply_area_drag(m, s, w.air_density(), w.forces.drag_coefficient, h_, s.v);
-    }
+    apply_air_drag(w, h_);
 #pragma omp parallel for schedule(static) if (worth_threads(n))
     for (int32_t i = 0; i < n; ++i) force_[i] = m.mass[i] * w.forces.gravity;
     if (w.forces.wind.strength > 0.0 && w.forces.wind.coefficient > 0.0) {
@@ -330,8 +326,8 @@ class Fast final : public Solver {
   // at most μ·δ, where a lone particle ends. The part of the limit used in the last iteration
   // is kept: the velocity friction after the solve takes only what is left. (Friction on the
   // velocity alone came after the solve had slid the cloth h²·g·sin θ a step: a patch crept
-  // 2.8 cm in 0.5 s down a 20° slope with μ = 0.5, where Coulomb's law holds it. On y's
-  // target itself, b₀, it opposed gravity where the springs were lifting the cloth, and a disc
+  // 2.8 cm in 0.5 s down a 20° slope with μ = 0.5, where Coulomb's law holds it. On the
+  // inertial target y itself it opposed gravity where the springs were lifting the cloth: a disc
   // resting on a ball slid off.)
   void grip(int32_t i, double mass, Vec3& p) {
     const double limit = contact_mu_[i] * h_ * contact_dvn_[i] * mass / contact_weight_;

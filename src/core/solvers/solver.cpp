@@ -41,14 +41,32 @@ int substeps_in(double dt, double frame_dt, int per_frame) {
   return std::clamp(static_cast<int>(share), 1, per_frame);
 }
 
-void drag_drift_constrain(World& w, double h) {
+void apply_air_drag(World& w, double h) {
   ClothState& s = w.state;
-  const int32_t n = w.model.size();
   forces::apply_drag(w.air_drag(), s.inv_mass, h, s.v);
   if (w.area_drag()) {
     update_normals(w.model, s);
     forces::apply_area_drag(w.model, s, w.air_density(), w.forces.drag_coefficient, h, s.v);
   }
+}
+
+void apply_air_drag_ahead(World& w, double h) {
+  if (w.air_drag() == 0.0 && !w.area_drag()) return;
+  ClothState& s = w.state;
+  const int32_t n = w.model.size();
+  const Vec3 kick = h * w.forces.gravity;
+#pragma omp parallel for schedule(static) if (worth_threads(n))
+  for (int32_t i = 0; i < n; ++i)
+    if (s.inv_mass[i] > 0.0) s.v[i] += kick;
+  apply_air_drag(w, h);
+#pragma omp parallel for schedule(static) if (worth_threads(n))
+  for (int32_t i = 0; i < n; ++i)
+    if (s.inv_mass[i] > 0.0) s.v[i] -= kick;
+}
+
+void drift_constrain(World& w, double h) {
+  ClothState& s = w.state;
+  const int32_t n = w.model.size();
 #pragma omp parallel for schedule(static) if (worth_threads(n))
   for (int32_t i = 0; i < n; ++i) s.x[i] += h * s.v[i];
   w.attachments.apply(s, true);

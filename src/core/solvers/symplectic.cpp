@@ -81,7 +81,8 @@ class Symplectic final : public Solver {
 #pragma omp parallel for schedule(static) if (worth_threads(n))
       for (int32_t i = 0; i < n; ++i) s.v[i] += (h * s.inv_mass[i]) * force_[i];
       // 3. Drag, drift, long-range attachments, contacts.
-      drag_drift_constrain(w, h);
+      apply_air_drag(w, h);
+      drift_constrain(w, h);
     }
     update_normals(w.model, s);
   }
