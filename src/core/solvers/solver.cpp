@@ -50,20 +50,6 @@ void apply_air_drag(World& w, double h) {
   }
 }
 
-void apply_air_drag_ahead(World& w, double h) {
-  if (w.air_drag() == 0.0 && !w.area_drag()) return;
-  ClothState& s = w.state;
-  const int32_t n = w.model.size();
-  const Vec3 kick = h * w.forces.gravity;
-#pragma omp parallel for schedule(static) if (worth_threads(n))
-  for (int32_t i = 0; i < n; ++i)
-    if (s.inv_mass[i] > 0.0) s.v[i] += kick;
-  apply_air_drag(w, h);
-#pragma omp parallel for schedule(static) if (worth_threads(n))
-  for (int32_t i = 0; i < n; ++i)
-    if (s.inv_mass[i] > 0.0) s.v[i] -= kick;
-}
-
 void drift_constrain(World& w, double h) {
   ClothState& s = w.state;
   const int32_t n = w.model.size();

@@ -26,8 +26,8 @@ struct World {
   const ForcesDef& forces;
   /// The colliders posed for the present substep (see pose_colliders), a sweep's poses included.
   const std::vector<Collider>& colliders;
-  double time;                              ///< s, at the start of the frame
-  const LongRange& attachments;             ///< long-range attachments to apply (cloth.long_range)
+  double time;                  ///< s, at the start of the frame
+  const LongRange& attachments;  ///< long-range attachments to apply (cloth.long_range)
   const std::atomic<bool>* stop = nullptr;  ///< when it turns true, the frame stops early
   bool cut_short = false;                   ///< set by the solver that stopped early
   ColliderSet* moving = nullptr;            ///< the colliders when some move; null when none does
@@ -115,13 +115,6 @@ int substeps_in(double dt, double frame_dt, int per_frame);
 /// Air drag over a step h on the velocities, semi-implicit (stable at any h): the seed's per
 /// particle, and the material's on the cloth's area.
 void apply_air_drag(World& world, double h);
-/// The same drag for a method that takes it before its solve (`implicit`), so that the springs
-/// see its change: the drag of the velocity gravity will have given at the step's end, v₀ + h·g
-/// (the gravity kick added, dragged, taken back). Free fall then ends a step exactly as with
-/// the drag after the solve, whose terminal speed lies within h·g/2 of the closed form's. (On
-/// v₀ alone, as `fast` takes it, a 128² cloth of 1 kg under the seed's drag 0.005 falls 25% too
-/// fast at h = 1/60 s.)
-void apply_air_drag_ahead(World& world, double h);
 /// The end of a velocity-level substep shared by `symplectic` and `implicit`: the drift
 /// x += h·v, long-range attachments, then contacts (last, so nothing stays inside a collider).
 /// Pinned and held particles (1/m = 0) stay put.
