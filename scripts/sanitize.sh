@@ -25,6 +25,7 @@ heavy=(
   'SameSceneTwiceGivesBitIdenticalState/implicit '
   'SameBitsTwiceWithSpringsOnlyOneThreadCanSweep/implicit '
   'WindModels.WindMovesTheClothDownwind/aero ' AutoMethod.SettlesOnARestingCloth
+  AClothTornByALinearisedStep
 )
 ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1 \
   ctest --test-dir build-asan --output-on-failure --parallel "$(nproc)" --timeout 900 -E "$(IFS="|"; echo "${heavy[*]}")"

@@ -145,4 +145,14 @@ double spring_energy(const ClothModel& model, const std::vector<Vec3>& x) {
   return e;
 }
 
+double spring_energy_beyond(const ClothModel& model, const std::vector<Vec3>& x, double ratio) {
+  double e = 0.0;
+  for (const Spring& s : model.springs) {
+    const double limit = ratio * s.rest;
+    if ((x[s.j] - x[s.i]).squaredNorm() > limit * limit)
+      e += spring_energy(x[s.i], x[s.j], s.stiffness, s.rest);  // stretched: k acts in full
+  }
+  return e;
+}
+
 }  // namespace drape::forces

@@ -128,6 +128,8 @@ void apply_area_drag(const ClothModel& model, const ClothState& state, double ai
 double kinetic_energy(const ClothModel& model, const std::vector<Vec3>& v);
 double gravity_energy(const ClothModel& model, const std::vector<Vec3>& x, const Vec3& g);
 double spring_energy(const ClothModel& model, const std::vector<Vec3>& x);
+/// The spring energy of the springs longer than `ratio` (≥ 1) × their rest length only (J).
+double spring_energy_beyond(const ClothModel& model, const std::vector<Vec3>& x, double ratio);
 
 /// The largest squared length of a position (m²) or velocity (m²/s²) the divergence watch
 /// accepts: beyond 1e150 a difference of two positions, squared, can overflow, so strains,

@@ -301,6 +301,7 @@ class MaterialAuto final : public Solver {
   int substeps() const override { return inner_->substeps(); }
   int64_t workspace_bytes() const override { return inner_->workspace_bytes(); }
   bool stretch_is_energy() const override { return inner_->stretch_is_energy(); }
+  bool may_tear() const override { return inner_->may_tear(); }
   bool steps_any_dt() const override { return inner_->steps_any_dt(); }
   bool holds_layers() const override { return inner_->holds_layers(); }
   const AutoChoice* auto_choice() const override { return &choice_; }

@@ -146,6 +146,10 @@ class Implicit final : public Solver {
   int substeps() const override {
     return substeps_;
   }
+  // Its drag is taken after the solve (README, Known traps).
+  bool may_tear() const override {
+    return true;
+  }
   int64_t workspace_bytes() const override {
     return heap_bytes(rhs_, force_, dv_, r_, s_, c_, q_, last_dv_, contact_n_, contact_surface_,
                       contact_dvn_, contact_mu_, block_, diag_, precond_, filter_) +

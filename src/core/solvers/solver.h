@@ -88,6 +88,11 @@ class Solver {
   /// of convergence (their leftover stretch is solver error), so the divergence watch leaves
   /// spring energy out of its budget for them and watches kinetic energy.
   virtual bool stretch_is_energy() const { return false; }
+  /// Whether one step can pull springs far past their rest length while the kinetic energy
+  /// stays small: a linearised solve (`implicit`'s one Newton step) whose springs do not see a
+  /// force taken outside it. The divergence watch then also counts the energy of the springs
+  /// stretched past twice their rest length, which no inaccuracy of a step explains.
+  virtual bool may_tear() const { return false; }
   /// Whether step_frame may be given a dt other than the one prepare() saw (a part of a frame,
   /// for self-collision's collision steps). False for a method that factorised its matrix
   /// for one step.
