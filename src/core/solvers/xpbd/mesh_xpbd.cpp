@@ -407,17 +407,7 @@ class MeshXpbd final : public Solver {
       }
       int ran = 0;  // substeps run (all, unless the frame stops early)
       for (int k = 0; k < steps; ++k, ++ran) {
-        if (k > 0 && w.stop) {
-          // One thread asks; the barrier that ends `single` shows every thread its answer.
-#pragma omp single
-          stopping_ = w.stop_here();
-          if (stopping_) break;
-        }
-        if (w.colliders_move()) {
-          // One thread poses them; the barrier that ends `single` shows every thread the poses.
-#pragma omp single
-          w.pose_colliders(w.time + k * h, w.time + (k + 1) * h);
-        }
+        if (!substep_begins(w, k, h, stopping_)) break;
         particles_.predict(h, drag);
         for (int it = 0; it < iterations_; ++it) {
           if (iterations_ > 1) {

@@ -55,6 +55,25 @@ int automatic_substeps(const World& w, const SolverDef& def, Swept swept) {
   return std::max(1, static_cast<int>(needed));
 }
 
+/// Inside a solver's parallel region, before substep k of a frame of substeps h from w.time:
+/// false where the frame stops here (a stop asked for ends it between whole substeps), else
+/// true with moving colliders posed for the substep. `stopping` is shared by the threads, and
+/// every thread gets the same answer.
+inline bool substep_begins(World& w, int k, double h, bool& stopping) {
+  if (k > 0 && w.stop) {
+    // One thread asks; the barrier that ends `single` shows every thread its answer.
+#pragma omp single
+    stopping = w.stop_here();
+    if (stopping) return false;
+  }
+  if (w.colliders_move()) {
+    // One thread poses them; the barrier that ends `single` shows every thread the poses.
+#pragma omp single
+    w.pose_colliders(w.time + k * h, w.time + (k + 1) * h);
+  }
+  return true;
+}
+
 /// A spring's XPBD compliance α̃ = 1/(k·h²) and damping γ = α̃·β·h²/h = c/(k·h) with β = c
 /// (N·s/m) for a substep of h (Macklin et al. 2016, eq. 26). Read into named locals, not a
 /// structured binding: clang 14 cannot capture a structured binding in an OpenMP region.
