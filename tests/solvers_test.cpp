@@ -31,20 +31,16 @@
 namespace drape {
 namespace {
 
-using testing_support::bench_scene;
 using testing_support::bare;
+using testing_support::bench_scene;
 using testing_support::kVariants;
+using testing_support::momentum;
+using testing_support::momentum_allowance;
 using testing_support::shipped;
 using testing_support::single;
 using testing_support::Variant;
 using testing_support::variant_name;
 using testing_support::with;
-
-Vec3 momentum(const Simulation& sim) {
-  Vec3 p = Vec3::Zero();
-  for (int32_t i = 0; i < sim.model().size(); ++i) p += sim.model().mass[i] * sim.state().v[i];
-  return p;
-}
 
 Vec3 random_vec(int seed) {
   return Vec3(std::sin(1.3 * seed + 0.1), std::cos(2.1 * seed + 0.7), std::sin(0.7 * seed + 2.0));
@@ -358,11 +354,7 @@ TEST_P(EachMethod, MomentumIsConservedWithNoExternalForces) {
   const Vec3 p0 = momentum(sim);
   ASSERT_GT(p0.norm(), 0.01);
   const int frames = 120;
-  const double tolerance = single(GetParam()) ? frames * sim.substeps_per_frame() *
-                                                    double(std::numeric_limits<float>::epsilon())
-                           : GetParam().method == Method::implicit ? 1e-8
-                           : GetParam().method == Method::fast     ? 1e-9
-                                                                   : 1e-12;
+  const double tolerance = momentum_allowance(GetParam(), frames, sim.substeps_per_frame());
   for (int f = 0; f < frames; ++f) {
     ASSERT_TRUE(sim.step()) << sim.divergence();
     EXPECT_LT((momentum(sim) - p0).norm(), tolerance * (1.0 + p0.norm())) << "frame " << f;

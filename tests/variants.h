@@ -2,11 +2,13 @@
 // with its structural springs solved as chains (solver.line_passes), and auto.
 #pragma once
 
+#include <limits>
 #include <string>
 
 #include <gtest/gtest.h>
 
 #include "drape/scene.h"
+#include "drape/simulation.h"
 
 namespace drape::testing_support {
 
@@ -41,6 +43,24 @@ inline SceneDef with(SceneDef def, const Variant& v) {
 /// Whether the variant steps in single precision (auto chooses it).
 inline bool single(const Variant& v) {
   return v.precision == Precision::f32 || v.method == Method::automatic;
+}
+
+/// The cloth's momentum Σ m·v (kg·m/s).
+inline Vec3 momentum(const Simulation& sim) {
+  Vec3 p = Vec3::Zero();
+  for (int32_t i = 0; i < sim.model().size(); ++i) p += sim.model().mass[i] * sim.state().v[i];
+  return p;
+}
+
+/// How far the momentum of a cloth with no external force may drift under variant v over
+/// `frames` frames of `substeps` substeps, relative to 1 + |p₀|: float round-off each substep;
+/// in double, what the iterative solves leave (implicit's CG at 1e-10, fast's iterations), and
+/// round-off for the exact updates.
+inline double momentum_allowance(const Variant& v, int frames, int substeps) {
+  return single(v) ? frames * substeps * double(std::numeric_limits<float>::epsilon())
+         : v.method == Method::implicit ? 1e-8
+         : v.method == Method::fast     ? 1e-9
+                                        : 1e-12;
 }
 
 }  // namespace drape::testing_support
