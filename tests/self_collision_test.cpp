@@ -181,6 +181,39 @@ TEST_P(SelfCollisionEveryMethod, LongRangeAttachmentsFollowMovingPins) {
   EXPECT_GT(behind, 10.0) << "beyond a limit from where the pins started: the check is void";
 }
 
+// A pile comes to rest instead of creeping or jittering: the shipped `pile.json` (32², dropped
+// edge-first so that it folds onto itself on the ground) with each method lies still in its
+// tenth second, its centre moving under 1 mm between 9 and 10 s (measured: symplectic 0.070,
+// implicit 0.027, xpbd 0.040 mm, single 0.041 mm). It replaces a test of `auto` on a 16² pile
+// with a 3 cm/s bound, which the shipped pile's creep passed.
+TEST_P(SelfCollisionEveryMethod, TheShippedPileLiesStillInItsTenthSecond) {
+  const Variant v = GetParam();
+  if (v.method == Method::automatic || v.line_passes > 0)
+    GTEST_SKIP() << "NOT reached with xpbd's line passes (auto takes them): the pile creeps "
+                    "along the ground, 22 mm (auto) and 7.5 mm (3 passes) between 9 and 10 s "
+                    "(README, Self-collision)";
+  if (v.method == Method::fast)
+    GTEST_SKIP() << "NOT reached with fast: the cloth stands on its edge like a board for 4 s "
+                    "and is still toppling at 10 s, 68 mm between 9 and 10 s (README, "
+                    "Self-collision)";
+  const SceneDef def = testing_support::with(testing_support::shipped("pile"), GetParam());
+  Simulation sim(def);
+  auto centre = [&] {
+    Vec3 c = Vec3::Zero();
+    for (const Vec3& x : sim.state().x) c += x / sim.model().size();
+    return c;
+  };
+  Vec3 before = Vec3::Zero();
+  for (int f = 0; f < 600; ++f) {
+    ASSERT_TRUE(sim.step()) << sim.divergence();
+    if (f + 1 == 540) before = centre();
+  }
+  const double moved = (centre() - before).norm();
+  std::printf("the pile's centre moved %.3g mm between 9 and 10 s\n", 1e3 * moved);
+  EXPECT_LT(moved, 1e-3);
+  EXPECT_EQ(count_self_intersections(sim.model().triangles, sim.state().x), 0);
+}
+
 INSTANTIATE_TEST_SUITE_P(Methods, SelfCollisionEveryMethod,
                          ::testing::ValuesIn(testing_support::kVariants),
                          testing_support::variant_name);
@@ -314,14 +347,6 @@ TEST(HeldLayers, AVertexEndsAThicknessAboveWithNoNormalVelocityAndCoulombFrictio
 
 // A pile comes to rest instead of jittering: after 8 s its kinetic energy is what a 1 kg
 // cloth moving at a few cm/s would have, and no triangle crosses another.
-TEST(SelfCollision, APileComesToRest) {
-  SceneDef def = small_pile(16);
-  def.duration = 8.0;
-  Simulation sim(def);
-  for (int64_t f = 0; f < frame_count(def); ++f) ASSERT_TRUE(sim.step()) << sim.divergence();
-  EXPECT_LT(sim.diagnostics().kinetic_energy, 0.5 * 1.0 * 0.03 * 0.03);  // 3 cm/s
-  EXPECT_EQ(count_self_intersections(sim.model().triangles, sim.state().x), 0);
-}
 
 // A frame is split into collision steps only where layers move past each other: a sheet
 // turned a quarter turn in one frame, close to nothing of itself, needs one step; a sheet
