@@ -345,9 +345,6 @@ TEST(HeldLayers, AVertexEndsAThicknessAboveWithNoNormalVelocityAndCoulombFrictio
   }
 }
 
-// A pile comes to rest instead of jittering: after 8 s its kinetic energy is what a 1 kg
-// cloth moving at a few cm/s would have, and no triangle crosses another.
-
 // A frame is split into collision steps only where layers move past each other: a sheet
 // turned a quarter turn in one frame, close to nothing of itself, needs one step; a sheet
 // sliding over another half a thickness below it needs one per half thickness it slides.
