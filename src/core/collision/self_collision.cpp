@@ -89,6 +89,7 @@ void SelfCollision::prepare(const ClothModel& model, double thickness, double fr
   thickness_ = thickness;
   friction_ = friction;
   edges_ = triangle_edges(model.triangles);
+  patches_.prepare(model, edges_);
   zone_.resize(model.size());
   std::iota(zone_.begin(), zone_.end(), 0);
   zone_state_.assign(model.size(), 0);
@@ -104,8 +105,9 @@ int SelfCollision::parts_for(double motion) const {
 
 int64_t SelfCollision::bytes() const {
   return heap_bytes(edges_, face_boxes_, edge_boxes_, kept_faces_, kept_edges_, contacts_, solved_,
-                    held_.pairs, contacted_, mobility_, crossing_, zone_, zone_state_, zoned_) +
-         face_grid_.bytes() + edge_grid_.bytes() + found_.bytes();
+                    held_.pairs, contacted_, mobility_, crossing_, zone_, zone_state_, zoned_,
+                    boxed_) +
+         face_grid_.bytes() + edge_grid_.bytes() + found_.bytes() + patches_.bytes();
 }
 
 void SelfCollision::find_contacts(const ClothModel& model, const std::vector<Vec3>& start,
@@ -115,16 +117,19 @@ void SelfCollision::find_contacts(const ClothModel& model, const std::vector<Vec
   // Swept boxes: a triangle's widened by the reach, so a vertex's own swept box meets it when
   // the two come within reach; an edge's by half, so two edges' boxes meet within it. The
   // triangles and the vertices share one grid (triangle t as box t, vertex p as box T + p), so
-  // that each cell lists its triangles, then its vertices.
+  // that each cell lists its triangles, then its vertices. The parts of the cloth smooth at the
+  // end of the frame cannot touch themselves (smooth_patches.h): what lies inside one and
+  // meets no other part's bounds is left out of the grids, and pairs inside one are skipped.
   const int32_t triangle_count = static_cast<int32_t>(triangles.size());
   const int32_t n = static_cast<int32_t>(x.size());
-  // The two grids are built side by side, each by one thread (the same either way).
+  patches_.update(triangles, x);
+  // The boxes, then the grids, built side by side, each by one thread (the same either way).
 #pragma omp parallel sections if (worth_threads(n))
   {
 #pragma omp section
     {
-      kept_faces_.clear();
       face_boxes_.resize(triangles.size() + x.size());
+      boxed_.assign(triangles.size(), 0);
       // Whether every triangle's inradius r is under the reach (crossings_leave_contacts_), by
       // the bound r = area / semi-perimeter ≤ area / longest edge: |ab × ac|² < 4·(reach·longest)².
       const double most = kCrossingReach * reach;
@@ -136,28 +141,47 @@ void SelfCollision::find_contacts(const ClothModel& model, const std::vector<Vec
           continue;
         face_boxes_[t] = swept_box(reach, x[tri[0]], x[tri[1]], x[tri[2]], start[tri[0]],
                                    start[tri[1]], start[tri[2]]);
-        kept_faces_.push_back(t);
+        boxed_[t] = 1;
         const Vec3 ab = x[tri[1]] - x[tri[0]], ac = x[tri[2]] - x[tri[0]], bc = ac - ab;
         const double longest = std::max({ab.squaredNorm(), ac.squaredNorm(), bc.squaredNorm()});
         small = small && ab.cross(ac).squaredNorm() < 4.0 * most * most * longest;
       }
       crossings_leave_contacts_ = small;
-      for (int32_t p = 0; p < n; ++p) {
-        if (!finite_all(x[p], start[p])) continue;
-        face_boxes_[triangle_count + p] = swept_box(0.0, x[p], start[p]);
-        kept_faces_.push_back(triangle_count + p);
+      for (int32_t p = 0; p < n; ++p)
+        if (finite_all(x[p], start[p]))
+          face_boxes_[triangle_count + p] = swept_box(0.0, x[p], start[p]);
+    }
+#pragma omp section
+    {
+      edge_boxes_.resize(edges_.size());
+      for (size_t e = 0; e < edges_.size(); ++e) {
+        const auto [i, j] = edges_[e];
+        if (finite_all(x[i], start[i]) && finite_all(x[j], start[j]))
+          edge_boxes_[e] = swept_box(0.5 * reach, x[i], x[j], start[i], start[j]);
       }
+    }
+  }
+  patches_.keep(face_boxes_, boxed_);
+#pragma omp parallel sections if (worth_threads(n))
+  {
+#pragma omp section
+    {
+      kept_faces_.clear();
+      for (int32_t t = 0; t < triangle_count; ++t)
+        if (boxed_[t] && patches_.triangle_kept(t)) kept_faces_.push_back(t);
+      for (int32_t p = 0; p < n; ++p)
+        if (finite_all(x[p], start[p]) && patches_.vertex_kept(p))
+          kept_faces_.push_back(triangle_count + p);
       face_grid_.build(face_boxes_, kept_faces_);
     }
 #pragma omp section
     {
       kept_edges_.clear();
-      edge_boxes_.resize(edges_.size());
       for (size_t e = 0; e < edges_.size(); ++e) {
         const auto [i, j] = edges_[e];
-        if (!finite_all(x[i], start[i]) || !finite_all(x[j], start[j])) continue;
-        edge_boxes_[e] = swept_box(0.5 * reach, x[i], x[j], start[i], start[j]);
-        kept_edges_.push_back(static_cast<int32_t>(e));
+        if (finite_all(x[i], start[i]) && finite_all(x[j], start[j]) &&
+            patches_.edge_kept(static_cast<int32_t>(e)))
+          kept_edges_.push_back(static_cast<int32_t>(e));
       }
       edge_grid_.build(edge_boxes_, kept_edges_);
     }
@@ -167,7 +191,9 @@ void SelfCollision::find_contacts(const ClothModel& model, const std::vector<Vec
   // the vertex changed sides of the triangle's plane while over its face.
   auto vertex_triangle = [&](int32_t p, int32_t t) {
     const Triangle& tri = triangles[t];
-    if (tri[0] == p || tri[1] == p || tri[2] == p) return false;
+    if (tri[0] == p || tri[1] == p || tri[2] == p ||
+        SmoothPatches::within_smooth(patches_.region_of_vertex(p), patches_.region_of_triangle(t)))
+      return false;
     const Vec3 &a = x[tri[0]], &b = x[tri[1]], &c = x[tri[2]];
     const TrianglePoint q = closest_on_triangle(x[p], a, b, c);
     const Vec3 d = x[p] - (q.wa * a + q.wb * b + q.wc * c);
@@ -181,7 +207,9 @@ void SelfCollision::find_contacts(const ClothModel& model, const std::vector<Vec
   auto edge_edge = [&](int32_t e, int32_t f) {
     const auto [i, j] = edges_[e];
     const auto [k, l] = edges_[f];
-    if (i == k || i == l || j == k || j == l) return false;
+    if (i == k || i == l || j == k || j == l ||
+        SmoothPatches::within_smooth(patches_.region_of_edge(e), patches_.region_of_edge(f)))
+      return false;
     const SegmentPoints sp = closest_between_segments(x[i], x[j], x[k], x[l]);
     const Vec3 d = (1 - sp.s) * x[i] + sp.s * x[j] - (1 - sp.t) * x[k] - sp.t * x[l];
     if (d.squaredNorm() < reach * reach) return true;

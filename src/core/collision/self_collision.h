@@ -4,7 +4,9 @@
 // animation") do with their collision step around any internal dynamics:
 //
 //  1. Contacts. Vertex–triangle and edge–edge pairs closer than the thickness at the end of the
-//     frame, or whose sides changed during it, are found through a grid over the swept boxes.
+//     frame, or whose sides changed during it, are found through a grid over the swept boxes;
+//     pairs inside one part of the cloth that is smooth at the frame's end (a disk whose normals
+//     lie within a cone and which projects one to one: smooth_patches.h) are not looked for.
 //     Each is pushed apart to the thickness on the side it started the frame on, with Coulomb
 //     friction on the relative slide, in a few Gauss–Seidel passes (a position-based
 //     repulsion: Müller et al. 2007; Macklin et al. 2014). Colliders are enforced after each
@@ -36,6 +38,7 @@
 #include "drape/collider.h"
 #include "drape/simulation.h"
 #include "layer_contact.h"
+#include "smooth_patches.h"
 
 namespace drape {
 
@@ -119,6 +122,8 @@ class SelfCollision {
   bool crossings_leave_contacts_ = false;
   std::vector<std::array<int32_t, 2>> edges_;
   std::vector<Box> face_boxes_, edge_boxes_;  ///< face_boxes_: the triangles', then the vertices'
+  std::vector<uint8_t> boxed_;                ///< per triangle: its corners finite, it has a box
+  SmoothPatches patches_;
   std::vector<int32_t> kept_faces_, kept_edges_;
   BoxGrid face_grid_, edge_grid_;
   std::vector<Contact> contacts_;
