@@ -5,6 +5,7 @@
 // against every pair, on a sheet with a flap folded over it).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <memory>
 #include <numbers>
@@ -209,7 +210,9 @@ TEST(SmoothPatches, OnlyDisksWoundOneWayMayBeSmooth) {
   auto flat = [](double u, double v) { return Vec3(u, v, 0.0); };
   const ClothModel good = model_of(sheet(16, 16, flat));
   auto mesh = sheet(16, 16, flat);
-  std::swap(mesh->triangles[100][1], mesh->triangles[100][2]);  // wound against its neighbours
+  // Wound against its neighbours, at a lowest-level patch's border (its corner (6, 3) is also
+  // a corner of triangle 74, of the next patch, which is a disk).
+  std::swap(mesh->triangles[75][1], mesh->triangles[75][2]);
   const ClothModel turned = model_of(mesh);
   SmoothPatches a, b;
   a.prepare(good, triangle_edges(good.triangles));
@@ -218,8 +221,19 @@ TEST(SmoothPatches, OnlyDisksWoundOneWayMayBeSmooth) {
   EXPECT_EQ(b.patches(), a.patches());
   EXPECT_LT(b.disks(), b.patches());  // the patches holding the turned triangle, on every level
   b.update(turned.triangles, turned.rest_position);
-  EXPECT_EQ(b.region_of_triangle(100), -1);
+  EXPECT_EQ(b.region_of_triangle(75), -1);
   EXPECT_GT(b.triangles_in_regions(), 0);
+  // Its corners and sides are in no region either, though their other triangles are in one:
+  // an element is in a region only where all its triangles are.
+  const std::vector<std::array<int32_t, 2>> edges = triangle_edges(turned.triangles);
+  const Triangle& t = turned.triangles[75];
+  for (int k = 0; k < 3; ++k) {
+    EXPECT_EQ(b.region_of_vertex(t[k]), -1);
+    const std::array<int32_t, 2> side{std::min(t[k], t[(k + 1) % 3]),
+                                      std::max(t[k], t[(k + 1) % 3])};
+    const auto e = std::lower_bound(edges.begin(), edges.end(), side) - edges.begin();
+    EXPECT_EQ(b.region_of_edge(static_cast<int32_t>(e)), -1);
+  }
 }
 
 }  // namespace

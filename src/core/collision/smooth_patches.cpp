@@ -114,14 +114,8 @@ void SmoothPatches::prepare(const ClothModel& model,
   // A particle in no triangle pairs with triangles the regions' culling cannot see: then
   // there are no regions.
   loose_ = count == 0;
-  vertex_owner_.resize(vertices);
-  for (int32_t p = 0; p < vertices; ++p) {
+  for (int32_t p = 0; p < vertices; ++p)
     loose_ = loose_ || vertex_begin_[p] == vertex_begin_[p + 1];
-    vertex_owner_[p] =
-        vertex_begin_[p] < vertex_begin_[p + 1] ? vertex_triangles_[vertex_begin_[p]] : 0;
-  }
-  edge_owner_.resize(edge_count);
-  for (int32_t e = 0; e < edge_count; ++e) edge_owner_[e] = edge_triangles_[edge_begin_[e]];
 
   // Patches: the pieces of the cloth whose rest shape lies in one cube of a grid, the cubes'
   // side doubling from level to level (an octree over the rest shape), so that each patch is
@@ -293,6 +287,8 @@ bool SmoothPatches::smooth(const Node& node, const std::vector<Vec3>& x) const {
 void SmoothPatches::update(const std::vector<Triangle>& triangles, const std::vector<Vec3>& x) {
   const int32_t count = static_cast<int32_t>(triangles.size());
   region_.assign(count, -1);
+  vertex_region_.assign(vertex_begin_.size() - 1, -1);
+  edge_region_.assign(edge_begin_.size() - 1, -1);
   regions_ = in_regions_ = 0;
   if (loose_) return;
   normal_.resize(count);
@@ -321,12 +317,30 @@ void SmoothPatches::update(const std::vector<Triangle>& triangles, const std::ve
     }
     std::swap(frontier_, next_);
   }
+  if (regions_ == 0) return;
+  auto common = [&](const std::vector<int32_t>& begin, const std::vector<int32_t>& list,
+                    int32_t i) {
+    const int32_t r = region_[list[begin[i]]];
+    for (int32_t m = begin[i] + 1; m < begin[i + 1]; ++m)
+      if (region_[list[m]] != r) return -1;
+    return r;
+  };
+  const int32_t vertices = static_cast<int32_t>(vertex_region_.size());
+  const int32_t edges = static_cast<int32_t>(edge_region_.size());
+#pragma omp parallel if (worth_threads(count))
+  {
+#pragma omp for schedule(static) nowait
+    for (int32_t p = 0; p < vertices; ++p)
+      vertex_region_[p] = common(vertex_begin_, vertex_triangles_, p);
+#pragma omp for schedule(static)
+    for (int32_t e = 0; e < edges; ++e) edge_region_[e] = common(edge_begin_, edge_triangles_, e);
+  }
 }
 
 void SmoothPatches::keep(const std::vector<Box>& face_boxes, const std::vector<uint8_t>& boxed) {
   const int32_t count = static_cast<int32_t>(region_.size());
-  const int32_t vertices = static_cast<int32_t>(vertex_owner_.size());
-  const int32_t edge_count = static_cast<int32_t>(edge_owner_.size());
+  const int32_t vertices = static_cast<int32_t>(vertex_region_.size());
+  const int32_t edge_count = static_cast<int32_t>(edge_region_.size());
   triangle_kept_.assign(count, 1);
   vertex_kept_.assign(vertices, 1);
   edge_kept_.assign(edge_count, 1);
@@ -399,9 +413,9 @@ int64_t SmoothPatches::bytes() const {
   int64_t levels = 0;
   for (const auto& level : levels_) levels += heap_bytes(level);
   return levels + heap_bytes(nodes_, children_, roots_, loop_, side_, edge_begin_, edge_triangles_,
-                             vertex_begin_, vertex_triangles_, vertex_owner_, edge_owner_, normal_,
-                             region_, frontier_, next_, node_smooth_, cells_, triangle_kept_,
-                             vertex_kept_, edge_kept_);
+                             vertex_begin_, vertex_triangles_, vertex_region_, edge_region_,
+                             normal_, region_, frontier_, next_, node_smooth_, cells_,
+                             triangle_kept_, vertex_kept_, edge_kept_);
 }
 
 }  // namespace drape

@@ -28,7 +28,9 @@
 //
 // Each frame, the largest smooth patches (regions) are found from the top down, and a triangle
 // is kept for the search only where its box shares a cell of a coarse grid with a triangle of
-// another region or of no smooth patch; a vertex or an edge where one of its triangles is.
+// another region or of no smooth patch; a vertex or an edge where one of its triangles is. A
+// pair is left out only where all the triangles of both its elements lie in one region: so two
+// triangles that cross, never in one region, leave their edge pair in the search.
 // Two boxes that meet share a cell, so every pair the search would find between two regions,
 // or with a part that is in none, is still found.
 #pragma once
@@ -59,9 +61,11 @@ class SmoothPatches {
 
   /// The region (smooth patch) of triangle t, or −1 where no smooth patch holds it.
   int32_t region_of_triangle(int32_t t) const { return region_[t]; }
-  /// That of vertex p's (edge e's) first triangle: a part of the region's closed surface.
-  int32_t region_of_vertex(int32_t p) const { return region_[vertex_owner_[p]]; }
-  int32_t region_of_edge(int32_t e) const { return region_[edge_owner_[e]]; }
+  /// That of all of vertex p's (edge e's) triangles, or −1 where they lie in different ones or
+  /// in none. (Not one triangle's: an edge on a region's border with a triangle of another
+  /// region on its other side may be where those cross, and the search must see it.)
+  int32_t region_of_vertex(int32_t p) const { return vertex_region_[p]; }
+  int32_t region_of_edge(int32_t e) const { return edge_region_[e]; }
   /// Whether two elements of regions a and b lie in one smooth patch: no contact between them.
   static bool within_smooth(int32_t a, int32_t b) { return a == b && a >= 0; }
 
@@ -95,12 +99,11 @@ class SmoothPatches {
   std::vector<int32_t> side_;  ///< edge of triangle t's side k (from corner k): side_[3t + k]
   std::vector<int32_t> edge_begin_, edge_triangles_;      ///< each edge's triangles
   std::vector<int32_t> vertex_begin_, vertex_triangles_;  ///< each vertex's triangles
-  std::vector<int32_t> vertex_owner_, edge_owner_;        ///< the first triangle of each
   bool loose_ = false;  ///< a particle in no triangle: no region (its pairs must be searched)
 
   // Per frame.
   std::vector<Vec3> normal_;  ///< per triangle, by its winding, unnormalised
-  std::vector<int32_t> region_, frontier_, next_;
+  std::vector<int32_t> region_, vertex_region_, edge_region_, frontier_, next_;
   std::vector<uint8_t> node_smooth_;
   int32_t regions_ = 0, in_regions_ = 0;
   std::vector<int32_t> cells_;  ///< the coarse grid: −1 empty, a region, or −2 mixed
