@@ -118,8 +118,8 @@ void SelfCollision::find_contacts(const ClothModel& model, const std::vector<Vec
   // the two come within reach; an edge's by half, so two edges' boxes meet within it. The
   // triangles and the vertices share one grid (triangle t as box t, vertex p as box T + p), so
   // that each cell lists its triangles, then its vertices. The parts of the cloth smooth at the
-  // end of the frame cannot touch themselves (smooth_patches.h): what lies inside one and
-  // meets no other part's bounds is left out of the grids, and pairs inside one are skipped.
+  // end of the frame cannot pass through themselves (smooth_patches.h): what lies inside one,
+  // away from every other part, is left out of the grids, and pairs inside one are skipped.
   const int32_t triangle_count = static_cast<int32_t>(triangles.size());
   const int32_t n = static_cast<int32_t>(x.size());
   patches_.update(triangles, x);
