@@ -206,25 +206,38 @@ TEST(SmoothPatches, EveryPairNearEachOtherOutsideOneRegionStaysInTheSearch) {
   EXPECT_GT(left_out, static_cast<int32_t>(tri.size() / 3));
 }
 
+// The flat 16 × 16 sheet with triangle `turned` wound against its neighbours.
+ClothModel sheet_turning(int turned) {
+  auto mesh = sheet(16, 16, [](double u, double v) { return Vec3(u, v, 0.0); });
+  if (turned >= 0) std::swap(mesh->triangles[turned][1], mesh->triangles[turned][2]);
+  return model_of(mesh);
+}
+
 TEST(SmoothPatches, OnlyDisksWoundOneWayMayBeSmooth) {
-  auto flat = [](double u, double v) { return Vec3(u, v, 0.0); };
-  const ClothModel good = model_of(sheet(16, 16, flat));
-  auto mesh = sheet(16, 16, flat);
-  // Wound against its neighbours, at a lowest-level patch's border (its corner (6, 3) is also
-  // a corner of triangle 74, of the next patch, which is a disk).
-  std::swap(mesh->triangles[75][1], mesh->triangles[75][2]);
-  const ClothModel turned = model_of(mesh);
+  // Triangle 100 lies inside a lowest-level patch: only the winding of its sides tells that
+  // the patches holding it, on every level, are not disks wound one way.
+  const ClothModel good = sheet_turning(-1), turned = sheet_turning(100);
   SmoothPatches a, b;
   a.prepare(good, triangle_edges(good.triangles));
   b.prepare(turned, triangle_edges(turned.triangles));
   EXPECT_EQ(a.disks(), a.patches());
   EXPECT_EQ(b.patches(), a.patches());
-  EXPECT_LT(b.disks(), b.patches());  // the patches holding the turned triangle, on every level
+  EXPECT_LT(b.disks(), b.patches());
   b.update(turned.triangles, turned.rest_position);
-  EXPECT_EQ(b.region_of_triangle(75), -1);
+  EXPECT_EQ(b.region_of_triangle(100), -1);
   EXPECT_GT(b.triangles_in_regions(), 0);
-  // Its corners and sides are in no region either, though their other triangles are in one:
-  // an element is in a region only where all its triangles are.
+}
+
+TEST(SmoothPatches, AnElementIsInARegionOnlyWhereAllItsTrianglesAre) {
+  // Triangle 75 turned, at a lowest-level patch's border: its corner (6, 3) is also a corner of
+  // triangle 74, of the next patch, which is smooth. Its corners and sides are in no region,
+  // though some of their other triangles are in one.
+  const ClothModel turned = sheet_turning(75);
+  SmoothPatches b;
+  b.prepare(turned, triangle_edges(turned.triangles));
+  b.update(turned.triangles, turned.rest_position);
+  ASSERT_EQ(b.region_of_triangle(75), -1);
+  ASSERT_GE(b.region_of_triangle(74), 0);
   const std::vector<std::array<int32_t, 2>> edges = triangle_edges(turned.triangles);
   const Triangle& t = turned.triangles[75];
   for (int k = 0; k < 3; ++k) {
