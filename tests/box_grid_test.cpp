@@ -3,12 +3,16 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
 #include <random>
 #include <set>
 #include <utility>
 #include <vector>
 
 #include "collision/box_grid.h"
+#include "collision/dense_grid.h"
 
 namespace drape {
 namespace {
@@ -88,6 +92,51 @@ TEST(BoxGrid, ReportsEveryPairAcrossASplitOnce) {
   const auto expected = brute_force(boxes, kept, split);
   EXPECT_GT(expected.size(), 40u);
   EXPECT_EQ(once, expected);
+}
+
+// A grid's cell or size as an array gtest can compare and print.
+std::array<int, 3> ints(const Eigen::Array3i& a) {
+  return {a.x(), a.y(), a.z()};
+}
+
+// The dense coarse grids' size and cells (collision/dense_grid.h): exact where small, widened
+// to at most the cells allowed where the span is vast (pieces 1e10 m apart once overflowed an
+// int), one cell where the span overflows a double, and every point, even one outside or not a
+// number, in a cell of the grid.
+TEST(DenseGrid, IsExactWhereSmallBoundedWhereVastAndHoldsEveryPoint) {
+  double cell = 0.1;
+  Eigen::Array3i dims = dense_grid_dims(Vec3(1.0, 0.55, 0.25), cell, 1000);
+  EXPECT_EQ(cell, 0.1);
+  EXPECT_EQ(ints(dims), (std::array<int, 3>{11, 6, 3}));
+  dims = dense_grid_dims(Vec3(1.0, 0.55, 0.25), cell, 100);  // 198 cells: one doubling
+  EXPECT_EQ(cell, 0.2);
+  EXPECT_EQ(ints(dims), (std::array<int, 3>{6, 3, 2}));
+
+  const int64_t most = int64_t{1} << 21;
+  cell = 0.04;
+  dims = dense_grid_dims(Vec3(1e10, 1e10, 0.1), cell, most);
+  EXPECT_GE(dims.minCoeff(), 1);
+  EXPECT_LE(dims.cast<int64_t>().prod(), most);
+  const double narrower = std::floor(1e10 / (0.5 * cell)) + 1.0;  // widened only as needed
+  EXPECT_GT(narrower * narrower, static_cast<double>(most));
+  EXPECT_EQ(ints(dense_grid_cell(Vec3(1e10, 0.0, 0.0), Vec3::Zero(), cell, dims)),
+            (std::array<int, 3>{dims.x() - 1, 0, 0}));
+
+  const double huge = std::numeric_limits<double>::max();
+  cell = 0.04;
+  dims = dense_grid_dims(Vec3(huge, 1.0, 1.0) - Vec3(-huge, 0.0, 0.0), cell, most);
+  EXPECT_EQ(ints(dims), (std::array<int, 3>{1, 1, 1}));
+  EXPECT_TRUE(std::isinf(cell));
+  const Vec3 origin(-huge, 0.0, 0.0);
+  for (const Vec3& p : {Vec3(huge, 0.5, 0.5), Vec3(0.0, 0.0, 0.0), Vec3(-huge, 1.0, 1.0)})
+    EXPECT_EQ(ints(dense_grid_cell(p, origin, cell, dims)), (std::array<int, 3>{0, 0, 0}));
+
+  dims = Eigen::Array3i(4, 5, 6);
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_EQ(ints(dense_grid_cell(Vec3(-3.0, 99.0, nan), Vec3::Zero(), 1.0, dims)),
+            (std::array<int, 3>{0, 4, 0}));
+  EXPECT_EQ(ints(dense_grid_cell(Vec3(2.5, 0.0, 5.0), Vec3::Zero(), 1.0, dims)),
+            (std::array<int, 3>{2, 0, 5}));
 }
 
 }  // namespace

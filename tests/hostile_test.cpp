@@ -355,6 +355,37 @@ TEST_F(Hostile, AClothStartingInsideAColliderIsBadInputNamingIt) {
   }
 }
 
+// Pieces of a cloth, or of a body, far apart: the coarse grids over them (self-collision's
+// smooth parts, a body's sharp features) once counted their cells in an int, which overflowed
+// (a cloth of two sheets 1e10 m apart threw std::length_error; such a body crashed the run).
+TEST_F(Hostile, PiecesFarApartRunAsAnyOthers) {
+  auto obj = [&](const std::string& name, const std::string& text) {
+    std::ofstream(path(name)) << text;
+  };
+  // Two sheets of two triangles each, 1e10 m apart, as one cloth with self-collision on.
+  obj("sheets.obj",
+      "v 0 1 0\nv 0.1 1 0\nv 0.1 1 0.1\nv 0 1 0.1\n"
+      "v 1e10 1 0\nv 1e10 1 0.1\nv 10000000000.1 1 0.1\nv 10000000000.1 1 0\n"
+      "f 1 2 3\nf 1 3 4\nf 5 6 7\nf 5 7 8\n");
+  std::ofstream(path("sheets.json")) << R"({"cloth": {"mesh": "sheets.obj", "mass": 0.1,
+    "pins": [], "self_collision": true}, "duration": 0.1})";
+  // A body of two tetrahedra, one under the cloth, one 1e10 m away (every edge sharp).
+  obj("body.obj",
+      "v -0.5 -1.2 -0.5\nv 0.5 -1.2 -0.5\nv -0.5 -1.2 0.5\nv -0.5 -0.2 -0.5\n"
+      "v 1e10 0 0\nv 10000000001 0 0\nv 1e10 0 1\nv 1e10 1 0\n"
+      "f 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\nf 5 7 6\nf 5 6 8\nf 5 8 7\nf 6 7 8\n");
+  std::ofstream(path("body.json")) << R"({"cloth": {"size": [1, 1], "resolution": [8, 8],
+    "origin": [-0.5, 0.2, -0.5], "orientation": "horizontal", "pins": []},
+    "colliders": [{"type": "mesh", "file": "body.obj"}], "duration": 0.5})";
+  for (const std::string name : {"sheets.json", "body.json"}) {
+    const Result r = drape("run " + name + " --stats stats.json");
+    EXPECT_EQ(r.code, 0) << name << ": " << r.err;
+    if (r.code == 0) {
+      EXPECT_TRUE(read_json(path("stats.json")).at("finite").get<bool>()) << name;
+    }
+  }
+}
+
 // Item 8.
 TEST_F(Hostile, CompareChecksEachMethodAfterTheOverrides) {
   const Result r = drape("compare " + scene("hang") +

@@ -263,13 +263,11 @@ void FeatureContacts::Grid::build(const std::vector<Vec3>& lo, const std::vector
   }
   cell = std::max(extent / count, min_cell);
   if (!(cell > 0.0)) cell = std::max((top - origin).maxCoeff(), 1.0);
-  auto size = [&] { return ((top - origin) / cell).array().floor().cast<int>() + 1; };
-  while (int64_t(size().x()) * size().y() * size().z() > kMaxGridCells) cell *= 2.0;
-  dims = size();
+  dims = dense_grid_dims(top - origin, cell, kMaxGridCells);
   auto index = [&](int i, int j, int l) { return (int64_t(l) * dims.y() + j) * dims.x() + i; };
   auto each_cell = [&](int32_t k, auto&& f) {
-    const Eigen::Array3i a = ((lo[k] - origin) / cell).array().floor().cast<int>().min(dims - 1);
-    const Eigen::Array3i b = ((hi[k] - origin) / cell).array().floor().cast<int>().min(dims - 1);
+    const Eigen::Array3i a = dense_grid_cell(lo[k], origin, cell, dims);
+    const Eigen::Array3i b = dense_grid_cell(hi[k], origin, cell, dims);
     for (int l = a.z(); l <= b.z(); ++l)
       for (int j = a.y(); j <= b.y(); ++j)
         for (int i = a.x(); i <= b.x(); ++i) f(index(i, j, l));

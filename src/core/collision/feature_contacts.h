@@ -32,6 +32,7 @@
 #include <vector>
 
 #include "collision/closest_points.h"
+#include "collision/dense_grid.h"
 #include "collision/point_push.h"
 #include "collision/sharp_features.h"
 #include "collision/triangle_shape.h"
@@ -203,8 +204,8 @@ template <class F>
 void FeatureContacts::Grid::query(const Vec3& lo, const Vec3& hi, F&& f) const {
   if (dims.x() == 0 || (hi.array() < origin.array()).any() || (lo.array() > top.array()).any())
     return;
-  const Eigen::Array3i a = ((lo - origin) / cell).array().floor().cast<int>().max(0);
-  const Eigen::Array3i b = ((hi - origin) / cell).array().floor().cast<int>().min(dims - 1);
+  const Eigen::Array3i a = dense_grid_cell(lo, origin, cell, dims);
+  const Eigen::Array3i b = dense_grid_cell(hi, origin, cell, dims);
   if ((b - a + 1).cast<int64_t>().prod() > int64_t(entries.size())) {  // cheaper to read all
     for (int32_t k : entries) f(k);
     return;

@@ -5,6 +5,7 @@
 #include <limits>
 #include <numbers>
 
+#include "collision/dense_grid.h"
 #include "drape/cloth.h"
 #include "parallel.h"
 
@@ -351,15 +352,10 @@ void SmoothPatches::keep(const std::vector<Box>& face_boxes, const std::vector<u
   }
   double cell = mean / count;
   if (!(cell > 0.0) || !std::isfinite(cell)) return;
-  Eigen::Array3i dims;
-  for (;;) {
-    dims = ((hi - lo) / cell).array().floor().cast<int>() + 1;
-    if (dims.cast<int64_t>().prod() <= kMaxCells) break;
-    cell *= 2.0;
-  }
+  const Eigen::Array3i dims = dense_grid_dims(hi - lo, cell, kMaxCells);
   auto cells_of = [&](const Box& b, Eigen::Array3i& a, Eigen::Array3i& z) {
-    a = ((b.lo - lo) / cell).array().floor().cast<int>().max(0).min(dims - 1);
-    z = ((b.hi - lo) / cell).array().floor().cast<int>().max(0).min(dims - 1);
+    a = dense_grid_cell(b.lo, lo, cell, dims);
+    z = dense_grid_cell(b.hi, lo, cell, dims);
   };
   auto index = [&](int i, int j, int k) {
     return (static_cast<int64_t>(k) * dims.y() + j) * dims.x() + i;
