@@ -311,6 +311,13 @@ TEST(Motion, SubstepsKeepABodysMoveRelativeToTheClothNearItWithinASixteenthOfIts
   box.type = ColliderType::box;
   box.half_extents = Vec3::Constant(0.16);
   EXPECT_EQ(ColliderSet({box}, 0.0).substeps_for(x, v, inv_mass, 0.0, dt), 1);
+  // A body keyed to cross 1e12 m in a second: the most substeps, and the most poses of its
+  // sweep (the counts once overflowed an int and came out as one).
+  def.motion.keys = {{0.0, Vec3::Zero(), Vec3::Zero()}, {1.0, Vec3(1e12, 0.0, 0.0), Vec3::Zero()}};
+  ColliderSet far({def}, 0.0);
+  EXPECT_EQ(far.substeps_for(x, v, inv_mass, 0.0, dt), ColliderSet::kMaxSubsteps);
+  far.pose(0.0, dt);
+  EXPECT_EQ(far.contact().size(), size_t{ColliderSet::kMaxSweep});
 }
 
 // The viewer's Shift-drag: the hand carries a collider from where it is to the new offset over

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 
+#include "bounded_count.h"
 #include "collision/motion.h"
 
 namespace drape {
@@ -136,7 +137,7 @@ int ColliderSet::substeps_for(const std::vector<Vec3>& x, const std::vector<Vec3
     }
     worst = std::max(worst, (own + fastest) / (size_[k] / kSubstepsPerPose));
   }
-  return std::clamp(static_cast<int>(std::ceil(worst * (1.0 - 1e-9))), 1, kMaxSubsteps);
+  return ceil_count(worst * (1.0 - 1e-9), 1, kMaxSubsteps);
 }
 
 void ColliderSet::pose(double t0, double t1) {
@@ -148,8 +149,7 @@ void ColliderSet::pose(double t0, double t1) {
       continue;
     }
     const Pose start = pose_of(k, t0), end = pose_of(k, t1);
-    const int pieces =
-        std::clamp(static_cast<int>(std::ceil(travel(k, t0, t1) / size_[k])), 1, kMaxSweep);
+    const int pieces = ceil_count(travel(k, t0, t1) / size_[k], 1, kMaxSweep);
     for (int j = 1; j <= pieces; ++j) {
       const double t = j == pieces ? t1 : t0 + (t1 - t0) * j / pieces;
       contact_.push_back(posed(k, j == pieces ? end : pose_of(k, t), start, t - t0));

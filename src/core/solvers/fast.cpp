@@ -31,6 +31,7 @@
 #include <cmath>
 #include <vector>
 
+#include "bounded_count.h"
 #include "drape/error.h"
 #include "forces.h"
 #include "forces/bending.h"
@@ -146,8 +147,7 @@ class Fast final : public Solver {
     // e^-2 of the slowest error, at least 10 (Liu et al.'s choice), at most 200.
     iterations_ = def.iterations > 0
                       ? def.iterations
-                      : std::clamp(static_cast<int>(std::ceil(2.0 / std::sqrt(1.0 - rho_ * rho_))),
-                                   kDefaultIterations, 200);
+                      : ceil_count(2.0 / std::sqrt(1.0 - rho_ * rho_), kDefaultIterations, 200);
 
     // Free particles are the unknowns.
     free_.assign(n, -1);
