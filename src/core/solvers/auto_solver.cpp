@@ -1,10 +1,11 @@
 // `auto`: the method a user gets who says what they want (the largest structural strain they
 // accept, solver.tolerance) rather than how to get it. It steps with xpbd in single precision
-// (the fastest method here at every size and shape, its strain resolved to ~1e-6, far below any
-// tolerance) and keeps the cheapest effort that holds the tolerance, deciding every kWindow
-// frames from the largest structural strain over them: it raises its effort a step on a ladder
-// of settings when the strain passes kRaise of the tolerance, and lowers it a step after a calm
-// half second below kLower.
+// (the fastest method here at every size and shape, its strain resolved to ~1e-6 near the
+// origin, far below any tolerance; in double where float cannot resolve the cloth, far from the
+// origin or tiny: kSingleShare) and keeps the cheapest effort that holds the tolerance,
+// deciding every kWindow frames from the largest structural strain over them: it raises its
+// effort a step on a ladder of settings when the strain passes kRaise of the tolerance, and
+// lowers it a step after a calm half second below kLower.
 //
 // The ladder: on a grid where line passes may run (no pin, or the pins' long-range attachments
 // on) the bench's configurations, 4 substeps of 2 to 6 passes with 0 to 2 stiff sweeps after
@@ -23,6 +24,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 
 #include "drape/error.h"
 #include "drape/simulation.h"
@@ -60,6 +62,9 @@ constexpr int kCalmWindows = 6;   // a second at 60 frames a second
 constexpr double kHelped = 0.9;   // a raise must bring the strain below this share of before
 constexpr double kRising = 1.1;   // ... unless the strain had grown by this factor before it
 constexpr int kCeilingFrames = 300;
+// Single precision while its rounding of a position, over the shortest structural spring, is
+// at most this share of the tolerance (a 4096² cloth of 2 m near the origin: about 0.05).
+constexpr double kSingleShare = 0.1;
 
 class AutoSolver final : public Solver {
  public:
@@ -110,8 +115,19 @@ class AutoSolver final : public Solver {
       raised_ = false, frame_ = 0, last_window_strain_ = 0.0, window_before_strain_ = 0.0;
       planned_ = true;
     }
-    if (!inner_)
-      inner_ = m.grid.present() ? make_grid_xpbd(Precision::f32) : make_mesh_xpbd(Precision::f32);
+    // Single precision where it resolves the cloth: its rounding at the cloth's coordinates
+    // (a cloth far from the origin, as in a game's world, or a tiny one) a small share of the
+    // strain allowed on its shortest structural spring; double where not.
+    double scale = 0.0, most_inverse_rest = 0.0;
+    for (const Vec3& p : w.state.x) scale = std::max(scale, p.cwiseAbs().maxCoeff());
+    for (double inverse : inv_rest_) most_inverse_rest = std::max(most_inverse_rest, inverse);
+    const double rounding = std::numeric_limits<float>::epsilon() * scale * most_inverse_rest;
+    const Precision precision =
+        rounding <= kSingleShare * def.tolerance ? Precision::f32 : Precision::f64;
+    if (!inner_ || precision != precision_) {
+      precision_ = precision;
+      inner_ = m.grid.present() ? make_grid_xpbd(precision_) : make_mesh_xpbd(precision_);
+    }
     apply(w);
   }
 
@@ -221,13 +237,13 @@ class AutoSolver final : public Solver {
     const Effort& e = ladder_[applied_];
     SolverDef d = def_;
     d.method = Method::xpbd;
-    d.precision = Precision::f32;
+    d.precision = precision_;
     d.substeps = e.substeps;
     d.line_passes = e.line_passes;
     d.stiff_sweeps = e.stiff_sweeps;
     inner_->prepare(w, d);
     choice_.method = Method::xpbd;
-    choice_.precision = Precision::f32;
+    choice_.precision = precision_;
     choice_.substeps = e.substeps;
     choice_.line_passes = e.line_passes;
     choice_.stiff_sweeps = e.stiff_sweeps;
@@ -246,6 +262,7 @@ class AutoSolver final : public Solver {
 
   SolverDef def_;
   std::unique_ptr<Solver> inner_;
+  Precision precision_ = Precision::f32;      ///< inner_'s
   std::vector<int32_t> spring_i_, spring_j_;  ///< the structural springs, whose strain is held
   std::vector<double> inv_rest_;
   bool planned_ = false, lines_ = false;
