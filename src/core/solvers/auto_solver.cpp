@@ -18,9 +18,9 @@
 // frame. Two rules keep it from see-sawing and from paying for nothing. A step down that has to
 // be taken back within two windows marks the level below as too low (a floor). Two steps up in
 // a row that leave the strain where it was (above 90% of the window before; a step taken while
-// the strain was rising is not judged) show that the strain is the springs' own stretch, which no effort removes (soft springs, point pins without
-// attachments): both are taken back, the level becomes a ceiling for kCeilingFrames, and the
-// choice says the tolerance is out of reach.
+// the strain was rising is not judged) show that the strain is the springs' own stretch, which no
+// effort removes (soft springs, point pins without attachments): both are taken back, the level
+// becomes a ceiling for kCeilingFrames, and the choice says the tolerance is out of reach.
 #include <algorithm>
 #include <array>
 #include <cmath>
