@@ -28,25 +28,31 @@ inline bool crosses(const Vec3& p, const Vec3& q, const Vec3& a, const Vec3& b, 
          n.dot((a - c).cross(hit - c)) > inside;
 }
 
-/// Crossing pairs of triangles that share no vertex, every pair tested: each edge against the
-/// other triangle.
+/// Whether triangles S and T share a vertex.
+inline bool share_a_vertex(const Triangle& S, const Triangle& T) {
+  for (int32_t i : S)
+    for (int32_t j : T)
+      if (i == j) return true;
+  return false;
+}
+
+/// Whether triangles S and T at x cross: an edge of either through the other.
+inline bool triangles_cross(const Triangle& S, const Triangle& T, const std::vector<Vec3>& x) {
+  for (int e = 0; e < 3; ++e)
+    if (crosses(x[S[e]], x[S[(e + 1) % 3]], x[T[0]], x[T[1]], x[T[2]]) ||
+        crosses(x[T[e]], x[T[(e + 1) % 3]], x[S[0]], x[S[1]], x[S[2]]))
+      return true;
+  return false;
+}
+
+/// Crossing pairs of triangles that share no vertex, every pair tested.
 inline int64_t brute_force_crossings(const std::vector<Triangle>& triangles,
                                      const std::vector<Vec3>& x) {
   int64_t count = 0;
   for (size_t s = 0; s < triangles.size(); ++s)
-    for (size_t t = s + 1; t < triangles.size(); ++t) {
-      const Triangle &S = triangles[s], &T = triangles[t];
-      bool shared = false;
-      for (int32_t i : S)
-        for (int32_t j : T) shared = shared || i == j;
-      if (shared) continue;
-      bool hit = false;
-      for (int e = 0; e < 3 && !hit; ++e) {
-        hit = crosses(x[S[e]], x[S[(e + 1) % 3]], x[T[0]], x[T[1]], x[T[2]]) ||
-              crosses(x[T[e]], x[T[(e + 1) % 3]], x[S[0]], x[S[1]], x[S[2]]);
-      }
-      count += hit;
-    }
+    for (size_t t = s + 1; t < triangles.size(); ++t)
+      count += !share_a_vertex(triangles[s], triangles[t]) &&
+               triangles_cross(triangles[s], triangles[t], x);
   return count;
 }
 

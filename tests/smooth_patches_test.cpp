@@ -59,13 +59,6 @@ std::vector<Box> triangle_boxes(const ClothModel& model, const std::vector<Vec3>
   return boxes;
 }
 
-bool shares_vertex(const Triangle& s, const Triangle& t) {
-  for (int32_t i : s)
-    for (int32_t j : t)
-      if (i == j) return true;
-  return false;
-}
-
 TEST(SmoothPatches, AFlatClothIsOneRegionAndLeavesTheSearchNothing) {
   const ClothModel model =
       model_of(sheet(24, 24, [](double u, double v) { return Vec3(u, v, 0.0); }));
@@ -129,14 +122,9 @@ TEST(SmoothPatches, ARibbonWoundThroughItselfIsInNoRegionWhereItCrosses) {
   const int32_t count = static_cast<int32_t>(tri.size());
   for (int32_t s = 0; s < count; ++s)
     for (int32_t t = s + 1; t < count; ++t) {
-      if (shares_vertex(tri[s], tri[t])) continue;
-      bool crosses = false;
-      for (int k = 0; k < 3 && !crosses; ++k)
-        crosses = testing_support::crosses(x[tri[s][k]], x[tri[s][(k + 1) % 3]], x[tri[t][0]],
-                                           x[tri[t][1]], x[tri[t][2]]) ||
-                  testing_support::crosses(x[tri[t][k]], x[tri[t][(k + 1) % 3]], x[tri[s][0]],
-                                           x[tri[s][1]], x[tri[s][2]]);
-      if (!crosses) continue;
+      if (testing_support::share_a_vertex(tri[s], tri[t]) ||
+          !testing_support::triangles_cross(tri[s], tri[t], x))
+        continue;
       ++crossing;
       EXPECT_FALSE(SmoothPatches::within_smooth(patches.region_of_triangle(s),
                                                 patches.region_of_triangle(t)))
