@@ -89,23 +89,29 @@ void SmoothPatches::prepare(const ClothModel& model,
     const std::array<int32_t, 2> e{std::min(i, j), std::max(i, j)};
     return static_cast<int32_t>(std::lower_bound(edges.begin(), edges.end(), e) - edges.begin());
   };
-  // Each triangle's sides as edges and each edge's triangles; each vertex's are the model's.
+  // Each triangle's sides as edges, each edge's and each vertex's triangles in index order.
   side_.resize(3 * static_cast<size_t>(count));
   edge_begin_.assign(edge_count + 1, 0);
+  vertex_begin_.assign(vertices + 1, 0);
   for (int32_t t = 0; t < count; ++t)
     for (int k = 0; k < 3; ++k) {
       side_[3 * t + k] = edge_of(triangles[t][k], triangles[t][(k + 1) % 3]);
       ++edge_begin_[side_[3 * t + k] + 1];
+      ++vertex_begin_[triangles[t][k] + 1];
     }
   for (int32_t e = 0; e < edge_count; ++e) edge_begin_[e + 1] += edge_begin_[e];
+  for (int32_t p = 0; p < vertices; ++p) vertex_begin_[p + 1] += vertex_begin_[p];
   edge_triangles_.resize(side_.size());
+  vertex_triangles_.resize(side_.size());
   {
-    std::vector<int32_t> at(edge_begin_.begin(), edge_begin_.end() - 1);
+    std::vector<int32_t> at_edge(edge_begin_.begin(), edge_begin_.end() - 1);
+    std::vector<int32_t> at_vertex(vertex_begin_.begin(), vertex_begin_.end() - 1);
     for (int32_t t = 0; t < count; ++t)
-      for (int k = 0; k < 3; ++k) edge_triangles_[at[side_[3 * t + k]]++] = t;
+      for (int k = 0; k < 3; ++k) {
+        edge_triangles_[at_edge[side_[3 * t + k]]++] = t;
+        vertex_triangles_[at_vertex[triangles[t][k]]++] = t;
+      }
   }
-  vertex_begin_ = model.vertex_triangle_begin;
-  vertex_triangles_ = model.vertex_triangles;
   // A particle in no triangle pairs with triangles the regions' culling cannot see: then
   // there are no regions.
   loose_ = count == 0;
