@@ -123,6 +123,7 @@ class SelfCollision {
   std::vector<std::array<int32_t, 2>> edges_;
   std::vector<Box> face_boxes_, edge_boxes_;  ///< face_boxes_: the triangles', then the vertices'
   std::vector<uint8_t> boxed_;                ///< per triangle: its corners finite, it has a box
+  std::vector<uint8_t> finite_;               ///< per vertex: finite at both ends of the frame
   SmoothPatches patches_;
   std::vector<int32_t> kept_faces_, kept_edges_;
   BoxGrid face_grid_, edge_grid_;
