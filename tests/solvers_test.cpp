@@ -1046,8 +1046,8 @@ TEST(XpbdLinePasses, MeetTheBenchBarOnADrapeWhereAsManyStiffSweepsDoNot) {
       strain.mean += sim.diagnostics().max_strain / 60;
     }
     EXPECT_LT(sim.diagnostics().max_penetration, 0.005);  // 1% of the radius, as the bench asks
-    std::printf("%d passes (ω %.1f), %d sweeps: largest strain %.3f%%, mean %.3f%%\n",
-                line_passes, relaxation, stiff_sweeps, 100 * strain.worst, 100 * strain.mean);
+    std::printf("%d passes (ω %.1f), %d sweeps: largest strain %.3f%%, mean %.3f%%\n", line_passes,
+                relaxation, stiff_sweeps, 100 * strain.worst, 100 * strain.mean);
     return strain;
   };
   const Strain relaxed = last_second(4, 0);

@@ -147,8 +147,7 @@ void SelfCollision::find_contacts(const ClothModel& model, const std::vector<Vec
       }
       crossings_leave_contacts_ = small;
       for (int32_t p = 0; p < n; ++p)
-        if (finite(p))
-          face_boxes_[triangle_count + p] = swept_box(0.0, x[p], start[p]);
+        if (finite(p)) face_boxes_[triangle_count + p] = swept_box(0.0, x[p], start[p]);
     }
 #pragma omp section
     {
@@ -169,8 +168,7 @@ void SelfCollision::find_contacts(const ClothModel& model, const std::vector<Vec
       for (int32_t t = 0; t < triangle_count; ++t)
         if (boxed_[t] && patches_.triangle_kept(t)) kept_faces_.push_back(t);
       for (int32_t p = 0; p < n; ++p)
-        if (finite(p) && patches_.vertex_kept(p))
-          kept_faces_.push_back(triangle_count + p);
+        if (finite(p) && patches_.vertex_kept(p)) kept_faces_.push_back(triangle_count + p);
       face_grid_.build(face_boxes_, kept_faces_);
     }
 #pragma omp section
