@@ -28,6 +28,7 @@
 
 #include "drape/error.h"
 #include "drape/simulation.h"
+#include "largest_coordinate.h"
 #include "long_range.h"
 #include "parallel.h"
 #include "solver.h"
@@ -118,8 +119,8 @@ class AutoSolver final : public Solver {
     // Single precision where it resolves the cloth: its rounding at the cloth's coordinates
     // (a cloth far from the origin, as in a game's world, or a tiny one) a small share of the
     // strain allowed on its shortest structural spring; double where not.
-    double scale = 0.0, most_inverse_rest = 0.0;
-    for (const Vec3& p : w.state.x) scale = std::max(scale, p.cwiseAbs().maxCoeff());
+    const double scale = largest_coordinate(w.state.x);
+    double most_inverse_rest = 0.0;
     for (double inverse : inv_rest_) most_inverse_rest = std::max(most_inverse_rest, inverse);
     const double rounding = std::numeric_limits<float>::epsilon() * scale * most_inverse_rest;
     const Precision precision =

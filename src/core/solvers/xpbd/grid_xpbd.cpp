@@ -29,6 +29,7 @@
 #include "chains.h"
 #include "constraints.h"
 #include "lanes.h"
+#include "largest_coordinate.h"
 #include "particles.h"
 #include "xpbd.h"
 
@@ -198,9 +199,8 @@ class GridXpbd final : public Solver {
   void prepare_families(const ClothModel& m) {
     families_.clear();
     std::vector<int64_t> counts;
-    double scale = 0.0;
-    for (const Vec3& p : m.rest_position) scale = std::max(scale, p.cwiseAbs().maxCoeff());
-    const double rounding = 16.0 * std::numeric_limits<double>::epsilon() * scale;
+    const double rounding =
+        16.0 * std::numeric_limits<double>::epsilon() * largest_coordinate(m.rest_position);
     for (const Spring& sp : m.springs) {
       const int ci = sp.i % cols_, ri = sp.i / cols_, cj = sp.j % cols_, rj = sp.j / cols_;
       Family f;
