@@ -13,6 +13,7 @@
 #endif
 
 #include "brute_force_crossings.h"
+#include "collision/crossings.h"
 #include "drape/self_intersections.h"
 #include "drape/simulation.h"
 #include "io/run_stats.h"
@@ -160,6 +161,52 @@ TEST(SelfIntersections, TouchingIsNotCrossing) {
   m.x[3] = Vec3(0.2, 0.2, -1e-3);  // now the edge 3-5 passes through
   EXPECT_EQ(library_count(m), 1);
   EXPECT_EQ(brute_force_count(m), 1);
+}
+
+// The side a CertifiedPlane gives is never wrong, checked against the determinant computed
+// exactly in integers: points with coordinates k·2⁻²⁰ for integers |k| < 2³⁷ (exact in doubles,
+// whose products of differences are not), the fourth point a + i·(b − a) + j·(c − a) for small
+// integers i and j, on the plane exactly (no side may be told), or that point a unit off it
+// (each side told must be right), or anywhere.
+TEST(SelfIntersections, CertifiedPlaneSidesAreNeverWrong) {
+  __extension__ using Wide = __int128;
+  std::mt19937_64 rng(7);
+  std::uniform_int_distribution<int64_t> coordinate(-(int64_t(1) << 37), int64_t(1) << 37);
+  std::uniform_int_distribution<int64_t> small(-3, 3), axis(0, 2);
+  const double unit = std::ldexp(1.0, -20);
+  auto exact_side = [](const int64_t* a, const int64_t* b, const int64_t* c, const int64_t* d) {
+    // orientation's det[a − d, b − d, c − d] in 128-bit integers (differences under 2⁴¹).
+    Wide u[3], v[3], w[3];
+    for (int k = 0; k < 3; ++k) u[k] = a[k] - d[k], v[k] = b[k] - d[k], w[k] = c[k] - d[k];
+    const Wide det = u[0] * (v[1] * w[2] - v[2] * w[1]) - u[1] * (v[0] * w[2] - v[2] * w[0]) +
+                     u[2] * (v[0] * w[1] - v[1] * w[0]);
+    return det > 0 ? 1 : det < 0 ? -1 : 0;
+  };
+  int told[3] = {0, 0, 0}, untold[3] = {0, 0, 0};  // on the plane, a unit off, anywhere
+  for (int trial = 0; trial < 30000; ++trial) {
+    const int kind = trial % 3;
+    int64_t p[4][3];
+    for (int i = 0; i < 3; ++i)
+      for (int k = 0; k < 3; ++k) p[i][k] = coordinate(rng);
+    const int64_t i = small(rng), j = small(rng);
+    for (int k = 0; k < 3; ++k)
+      p[3][k] = kind == 2 ? coordinate(rng) : p[0][k] + i * (p[1][k] - p[0][k]) + j * (p[2][k] - p[0][k]);
+    if (kind == 1) p[3][axis(rng)] += small(rng) < 0 ? -1 : 1;
+    Vec3 x[4];
+    for (int v = 0; v < 4; ++v)
+      x[v] = Vec3(double(p[v][0]) * unit, double(p[v][1]) * unit, double(p[v][2]) * unit);
+    const int side = drape::CertifiedPlane::of(x[0], x[1], x[2]).side(x[3]);
+    const int exact = exact_side(p[0], p[1], p[2], p[3]);
+    if (side != 0) {
+      ASSERT_EQ(side, exact) << "trial " << trial;
+    }
+    ++(side != 0 ? told : untold)[kind];
+  }
+  std::printf("sides told / not told: on the plane %d / %d, a unit off %d / %d, anywhere %d / %d\n",
+              told[0], untold[0], told[1], untold[1], told[2], untold[2]);
+  EXPECT_EQ(told[0], 0);
+  EXPECT_GE(told[1], 9000);  // a unit is 2⁻³⁷ of the coordinates, far above doubles' rounding
+  EXPECT_EQ(untold[2], 0);
 }
 
 TEST(SelfIntersections, NonFiniteTrianglesAreLeftOut) {

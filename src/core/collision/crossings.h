@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "box_grid.h"
+#include "drape/cloth.h"
 #include "drape/mesh.h"
 #include "parallel.h"
 
@@ -16,6 +17,16 @@ namespace drape {
 /// by certified orientation tests: a yes or no it gives is never wrong by rounding.
 bool segment_crosses_triangle(const Vec3& p, const Vec3& q, const Vec3& a, const Vec3& b,
                               const Vec3& c);
+
+/// Triangle abc's plane made once for many certified side tests: side(d) is the sign
+/// orientation(a, b, c, d) certifies (which side of the plane d lies on; 0 when on it or too
+/// near for doubles to tell), in a third of its arithmetic, the minors of the triangle's normal
+/// n = (b − a) × (c − a) and their permanents m being made here.
+struct CertifiedPlane {
+  Vec3 a, n, m;
+  static CertifiedPlane of(const Vec3& a, const Vec3& b, const Vec3& c);
+  int side(const Vec3& d) const;
+};
 
 /// Two triangles by index, s < t.
 struct TrianglePair {
@@ -29,9 +40,15 @@ class CrossingFinder {
   /// Sets `out` to every crossing pair, sorted, the same for any thread count.
   void find(const std::vector<Triangle>& triangles, const std::vector<Vec3>& positions,
             std::vector<TrianglePair>& out);
+  /// Heap bytes its arrays hold (for memory reports).
+  int64_t bytes() const {
+    return heap_bytes(boxes_, planes_, finite_, kept_) + grid_.bytes() + found_.bytes();
+  }
 
  private:
   std::vector<Box> boxes_;
+  std::vector<CertifiedPlane> planes_;
+  std::vector<unsigned char> finite_;  ///< per triangle: its corners are finite
   std::vector<int32_t> kept_;
   BoxGrid grid_;
   ThreadLists<TrianglePair> found_;

@@ -103,7 +103,8 @@ int64_t SelfCollision::bytes() const {
   return heap_bytes(edges_, face_boxes_, edge_boxes_, kept_faces_, kept_edges_, contacts_, solved_,
                     held_.pairs, contacted_, mobility_, crossing_, zone_, zone_state_, zoned_,
                     boxed_, finite_) +
-         face_grid_.bytes() + edge_grid_.bytes() + found_.bytes() + patches_.bytes();
+         face_grid_.bytes() + edge_grid_.bytes() + found_.bytes() + patches_.bytes() +
+         crossing_finder_.bytes();
 }
 
 void SelfCollision::find_contacts(const ClothModel& model, const std::vector<Vec3>& start,

@@ -42,12 +42,58 @@ int orientation(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
   return determinant > bound ? 1 : determinant < -bound ? -1 : 0;
 }
 
-// Two triangles cross when an edge of either passes through the other: the segment where two
-// crossing triangles meet ends on such edges.
-bool triangles_cross(const Vec3* s, const Vec3* t) {
+}  // namespace
+
+// orientation(a, b, c, d) as the cofactor expansion of det[b − a, c − a, d − a] along its last
+// row, each term a difference times a minor of differences as in orient3d, so that Shewchuk's
+// bound holds for it as it is, with the permanent of that expansion: det[a − d, b − d, c − d] =
+// −(d − a)·n.
+CertifiedPlane CertifiedPlane::of(const Vec3& a, const Vec3& b, const Vec3& c) {
+  const Vec3 f = b - a, g = c - a;
+  const double fy_gz = f.y() * g.z(), fz_gy = f.z() * g.y(), fz_gx = f.z() * g.x(),
+               fx_gz = f.x() * g.z(), fx_gy = f.x() * g.y(), fy_gx = f.y() * g.x();
+  return {a, Vec3(fy_gz - fz_gy, fz_gx - fx_gz, fx_gy - fy_gx),
+          Vec3(std::abs(fy_gz) + std::abs(fz_gy), std::abs(fz_gx) + std::abs(fx_gz),
+               std::abs(fx_gy) + std::abs(fy_gx))};
+}
+
+int CertifiedPlane::side(const Vec3& d) const {
+  const Vec3 e = d - a;
+  const double determinant = -e.dot(n);
+  const double permanent = e.cwiseAbs().dot(m);
+  if (!(permanent > kSmallestPermanent)) return 0;
+  const double bound = kOrientationBound * permanent;
+  return determinant > bound ? 1 : determinant < -bound ? -1 : 0;
+}
+
+namespace {
+
+// Whether segment pq, whose ends lie on sides side_p and side_q of triangle abc's plane,
+// passes through the triangle: the rest of segment_crosses_triangle.
+bool crosses_inside(int side_p, int side_q, const Vec3& p, const Vec3& q, const Vec3& a,
+                    const Vec3& b, const Vec3& c) {
+  if (side_p == 0 || side_q == 0 || side_p == side_q) return false;
+  const int ab = orientation(p, q, a, b);
+  if (ab == 0) return false;
+  return orientation(p, q, b, c) == ab && orientation(p, q, c, a) == ab;
+}
+
+// Two triangles s and t cross when an edge of either passes through the other (the segment
+// where two crossing triangles meet ends on such edges); they cannot when all three corners of
+// one lie strictly on one side of the other's plane, where most neighbouring pairs of a smooth
+// cloth end. Each corner's side of the other plane is found once, for both questions: a pair
+// in a flat stretch of cloth, where no side is certain, took fourteen orientations before.
+bool triangles_cross(const Vec3* s, const CertifiedPlane& ps, const Vec3* t,
+                     const CertifiedPlane& pt) {
+  int of_t[3], of_s[3];  // t's corners' sides of s's plane, and s's of t's
+  for (int k = 0; k < 3; ++k) of_t[k] = ps.side(t[k]);
+  if (of_t[0] != 0 && of_t[1] == of_t[0] && of_t[2] == of_t[0]) return false;
+  for (int k = 0; k < 3; ++k) of_s[k] = pt.side(s[k]);
+  if (of_s[0] != 0 && of_s[1] == of_s[0] && of_s[2] == of_s[0]) return false;
   for (int e = 0; e < 3; ++e) {
-    if (segment_crosses_triangle(s[e], s[(e + 1) % 3], t[0], t[1], t[2])) return true;
-    if (segment_crosses_triangle(t[e], t[(e + 1) % 3], s[0], s[1], s[2])) return true;
+    const int f = (e + 1) % 3;
+    if (crosses_inside(of_s[e], of_s[f], s[e], s[f], t[0], t[1], t[2])) return true;
+    if (crosses_inside(of_t[e], of_t[f], t[e], t[f], s[0], s[1], s[2])) return true;
   }
   return false;
 }
@@ -59,40 +105,36 @@ bool share_a_vertex(const Triangle& s, const Triangle& t) {
   return false;
 }
 
-// Whether all three corners of t lie strictly on one side of s's plane: then the two cannot
-// cross (a point of s's edge inside t would be off s's plane). Most neighbouring pairs of a
-// smooth cloth end here, before the edge tests.
-bool apart(const Vec3* s, const Vec3* t) {
-  const int side = orientation(s[0], s[1], s[2], t[0]);
-  return side != 0 && orientation(s[0], s[1], s[2], t[1]) == side &&
-         orientation(s[0], s[1], s[2], t[2]) == side;
-}
-
 }  // namespace
 
-// The three orientations of pq with the triangle's edges agree; any zero means touching.
+// Both ends' sides of the plane, then the three orientations of pq with the triangle's edges
+// agree; any zero means touching.
 bool segment_crosses_triangle(const Vec3& p, const Vec3& q, const Vec3& a, const Vec3& b,
                               const Vec3& c) {
-  const int side_p = orientation(a, b, c, p), side_q = orientation(a, b, c, q);
-  if (side_p == 0 || side_q == 0 || side_p == side_q) return false;
-  const int ab = orientation(p, q, a, b);
-  if (ab == 0) return false;
-  return orientation(p, q, b, c) == ab && orientation(p, q, c, a) == ab;
+  return crosses_inside(orientation(a, b, c, p), orientation(a, b, c, q), p, q, a, b, c);
 }
 
 void CrossingFinder::find(const std::vector<Triangle>& triangles,
                           const std::vector<Vec3>& positions, std::vector<TrianglePair>& out) {
   out.clear();
-  // Boxes of the triangles whose corners are all finite.
-  kept_.clear();
+  // Boxes and planes of the triangles whose corners are all finite, shared out to the threads,
+  // then the list of them.
+  const int64_t count = static_cast<int64_t>(triangles.size());
   boxes_.resize(triangles.size());
-  for (size_t t = 0; t < triangles.size(); ++t) {
+  planes_.resize(triangles.size());
+  finite_.resize(triangles.size());
+#pragma omp parallel for schedule(static) if (worth_threads(count))
+  for (int64_t t = 0; t < count; ++t) {
     const Vec3 &a = positions[triangles[t][0]], &b = positions[triangles[t][1]],
                &c = positions[triangles[t][2]];
-    if (!a.allFinite() || !b.allFinite() || !c.allFinite()) continue;
+    finite_[t] = a.allFinite() && b.allFinite() && c.allFinite();
+    if (!finite_[t]) continue;
     boxes_[t] = {a.cwiseMin(b).cwiseMin(c), a.cwiseMax(b).cwiseMax(c)};
-    kept_.push_back(static_cast<int32_t>(t));
+    planes_[t] = CertifiedPlane::of(a, b, c);
   }
+  kept_.clear();
+  for (int64_t t = 0; t < count; ++t)
+    if (finite_[t]) kept_.push_back(static_cast<int32_t>(t));
   if (kept_.size() < 2) return;
   grid_.build(boxes_, kept_);
 
@@ -111,8 +153,7 @@ void CrossingFinder::find(const std::vector<Triangle>& triangles,
                                    positions[triangles[s][2]]};
         const Vec3 corners_t[3] = {positions[triangles[t][0]], positions[triangles[t][1]],
                                    positions[triangles[t][2]]};
-        if (apart(corners_s, corners_t) || apart(corners_t, corners_s)) return;
-        if (triangles_cross(corners_s, corners_t)) mine.push_back({s, t});
+        if (triangles_cross(corners_s, planes_[s], corners_t, planes_[t])) mine.push_back({s, t});
       });
   }
   found_.gather(out);
