@@ -283,15 +283,18 @@ class AutoSolver final : public Solver {
 
 // A material's cloth: its strain is the fabric's own stretch, not an error any effort removes,
 // and its threads buckle, which the line passes' inextensible chains cannot. auto takes xpbd
-// (double precision, its automatic substeps) where those are at most kMaterialXpbdSubsteps a
-// frame, implicit where more (fine meshes of stiff fabric), chosen at the first preparation
-// and kept. xpbd's cost is about 0.13 µs per particle and substep on the material scenes;
-// implicit's per particle and frame ranged from 2 µs (cusick, at rest) through 9 (hang-denim)
-// and 18 (sphere-denim, 64²) to 39 (sphere-denim at 128², landing): 18 to 300 substeps' worth.
-// At the threshold xpbd takes the draping scenes (sphere-denim: 50 substeps at 64², 101 at
-// 128², 2.7 and 3 times faster than implicit) and implicit the fine disc of cusick (xpbd would
-// need 273: 8 times slower). The choice is reported as auto's (AutoChoice).
-constexpr int kMaterialXpbdSubsteps = 150;
+// (double precision, its automatic substeps) where those are few, implicit where many, chosen
+// at the first preparation and kept, from what each costs on the material scenes (README,
+// Materials): xpbd about 0.12 µs per particle and substep; implicit, at one step a frame, 6 to
+// 8 µs per particle and frame on a stiff fabric hanging free (50 to 67 substeps' worth) and 14
+// to 25 µs on one landing on a collider, where it takes more steps (sphere-denim: 115 to 200
+// substeps' worth). So xpbd up to kMaterialXpbdSubstepsFree substeps without colliders
+// (hang-denim in knit, 17, a tie; implicit for it in denim, 74, and in cotton-polyester, 128:
+// 1.4 and 2.3 times faster), up to kMaterialXpbdSubstepsColliding with them (xpbd for the
+// draping sphere-denim, 50 to 114 substeps by preset: 1.7 to 2 times faster; implicit for the
+// fine disc of cusick, 273: 6 to 8 times). The choice is reported as auto's (AutoChoice).
+constexpr int kMaterialXpbdSubstepsFree = 60;
+constexpr int kMaterialXpbdSubstepsColliding = 150;
 
 class MaterialAuto final : public Solver {
  public:
@@ -300,12 +303,14 @@ class MaterialAuto final : public Solver {
     d.precision = Precision::f64;
     if (!inner_) {
       d.method = Method::xpbd;
-      int needed = kMaterialXpbdSubsteps + 1;
+      const int most =
+          w.colliders.empty() ? kMaterialXpbdSubstepsFree : kMaterialXpbdSubstepsColliding;
+      int needed = most + 1;
       try {
         needed = xpbd::automatic_substeps(w, d, [](const Spring&) { return true; });
       } catch (const InputError&) {  // more than solver.max_substeps: implicit
       }
-      if (needed > kMaterialXpbdSubsteps) d.method = Method::implicit;
+      if (needed > most) d.method = Method::implicit;
       inner_ = make_solver(d, w.model);
       choice_.method = d.method;
       choice_.precision = d.precision;
