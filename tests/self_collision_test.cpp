@@ -507,6 +507,30 @@ TEST(SelfCollision, SameBitsTwiceAndOnOneOrTwoThreads) {
 }
 
 // Off by default, and off it changes nothing: the state is bit for bit the one without it.
+// What self-collision holds (its boxes, grids, patches, crossing search and the contacts it
+// finds, which grow as the cloth piles up) is counted by memory() and stays under the
+// estimate a run's memory budget is checked against before anything is built, without being
+// far from it: a pile at two sizes, checked every half second of its folding.
+TEST(SelfCollision, MemoryStaysUnderTheEstimate) {
+  for (int n : {24, 48}) {
+    const SceneDef def = small_pile(n);
+    Simulation sim(def);
+    const int64_t off = [&] {
+      SceneDef without = def;
+      without.cloth.self_collision.enabled = false;
+      return Simulation(without).memory().total();
+    }();
+    for (int f = 1; f <= 180; ++f) {
+      ASSERT_TRUE(sim.step()) << sim.divergence();
+      if (f % 30 != 0) continue;
+      const int64_t total = sim.memory().total();
+      EXPECT_GT(total, off + sim.model().size() * int64_t{800}) << n << "², frame " << f;
+      EXPECT_LE(total, estimated_memory(def)) << n << "², frame " << f;
+      EXPECT_GE(3 * total, estimated_memory(def)) << n << "², frame " << f;
+    }
+  }
+}
+
 TEST(SelfCollision, OffByDefault) {
   SceneDef def;
   EXPECT_FALSE(def.cloth.self_collision.enabled);
