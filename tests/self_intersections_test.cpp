@@ -190,7 +190,8 @@ TEST(SelfIntersections, CertifiedPlaneSidesAreNeverWrong) {
       for (int k = 0; k < 3; ++k) p[i][k] = coordinate(rng);
     const int64_t i = small(rng), j = small(rng);
     for (int k = 0; k < 3; ++k)
-      p[3][k] = kind == 2 ? coordinate(rng) : p[0][k] + i * (p[1][k] - p[0][k]) + j * (p[2][k] - p[0][k]);
+      p[3][k] =
+          kind == 2 ? coordinate(rng) : p[0][k] + i * (p[1][k] - p[0][k]) + j * (p[2][k] - p[0][k]);
     if (kind == 1) p[3][axis(rng)] += small(rng) < 0 ? -1 : 1;
     Vec3 x[4];
     for (int v = 0; v < 4; ++v)
