@@ -22,6 +22,14 @@ constexpr double kOrientationBound = (7.0 + 56.0 * kRoundoff) * kRoundoff;
 // holds; coordinates in metres never get there.
 constexpr double kSmallestPermanent = 1e-280;
 
+// The sign of a 3×3 determinant of differences evaluated as orient3d does, where Shewchuk's
+// bound on its rounding, relative to `permanent`, certifies it; 0 where it does not.
+int certified_sign(double determinant, double permanent) {
+  if (!(permanent > kSmallestPermanent)) return 0;
+  const double bound = kOrientationBound * permanent;
+  return determinant > bound ? 1 : determinant < -bound ? -1 : 0;
+}
+
 // The sign of det[a − d, b − d, c − d]: which side of the plane through a, b, c the point d
 // lies on. 0 when d is on the plane or too close to it for doubles to tell (not an exact
 // predicate, but a certified one: a sign it gives is never wrong).
@@ -37,9 +45,7 @@ int orientation(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
   const double permanent = (std::abs(bdxcdy) + std::abs(cdxbdy)) * std::abs(adz) +
                            (std::abs(cdxady) + std::abs(adxcdy)) * std::abs(bdz) +
                            (std::abs(adxbdy) + std::abs(bdxady)) * std::abs(cdz);
-  if (!(permanent > kSmallestPermanent)) return 0;
-  const double bound = kOrientationBound * permanent;
-  return determinant > bound ? 1 : determinant < -bound ? -1 : 0;
+  return certified_sign(determinant, permanent);
 }
 
 }  // namespace
@@ -59,11 +65,7 @@ CertifiedPlane CertifiedPlane::of(const Vec3& a, const Vec3& b, const Vec3& c) {
 
 int CertifiedPlane::side(const Vec3& d) const {
   const Vec3 e = d - a;
-  const double determinant = -e.dot(n);
-  const double permanent = e.cwiseAbs().dot(m);
-  if (!(permanent > kSmallestPermanent)) return 0;
-  const double bound = kOrientationBound * permanent;
-  return determinant > bound ? 1 : determinant < -bound ? -1 : 0;
+  return certified_sign(-e.dot(n), e.cwiseAbs().dot(m));
 }
 
 namespace {
