@@ -68,6 +68,13 @@ TEST(SmoothPatches, AFlatClothIsOneRegionAndLeavesTheSearchNothing) {
   patches.update(model.triangles, model.rest_position);
   EXPECT_EQ(patches.regions(), 1);
   EXPECT_EQ(patches.triangles_in_regions(), static_cast<int32_t>(model.triangles.size()));
+  // The one region is the whole cloth: its every vertex and edge lie in it.
+  EXPECT_TRUE(patches.whole());
+  const int32_t region = patches.region_of_triangle(0);
+  ASSERT_GE(region, 0);
+  for (int32_t p = 0; p < model.size(); ++p) EXPECT_EQ(patches.region_of_vertex(p), region);
+  const int32_t edges = static_cast<int32_t>(triangle_edges(model.triangles).size());
+  for (int32_t e = 0; e < edges; ++e) EXPECT_EQ(patches.region_of_edge(e), region);
   patches.keep(triangle_boxes(model, model.rest_position, 0.02),
                std::vector<uint8_t>(model.triangles.size(), 1));
   for (int32_t t = 0; t < static_cast<int32_t>(model.triangles.size()); ++t)
@@ -87,6 +94,7 @@ TEST(SmoothPatches, ARegionsNormalsLieWithinItsCone) {
   patches.prepare(model, triangle_edges(model.triangles));
   patches.update(model.triangles, x);
   EXPECT_GT(patches.regions(), 1);
+  EXPECT_FALSE(patches.whole());
   std::vector<Vec3> sum(patches.patches(), Vec3::Zero()), normal;
   for (const Triangle& t : model.triangles)
     normal.push_back((x[t[1]] - x[t[0]]).cross(x[t[2]] - x[t[0]]));
@@ -132,6 +140,7 @@ TEST(SmoothPatches, ARibbonWoundThroughItselfIsInNoRegionWhereItCrosses) {
           << patches.region_of_triangle(s);
     }
   EXPECT_GT(crossing, 0);  // the ribbon does pass through itself
+  EXPECT_FALSE(patches.whole());
   // Its parts that do not overlap are still regions.
   EXPECT_GT(patches.triangles_in_regions(), static_cast<int32_t>(tri.size() / 2));
 }

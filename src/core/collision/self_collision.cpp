@@ -120,6 +120,15 @@ void SelfCollision::find_contacts(const ClothModel& model, const std::vector<Vec
   const int32_t triangle_count = static_cast<int32_t>(triangles.size());
   const int32_t n = static_cast<int32_t>(x.size());
   patches_.update(triangles, x);
+  if (patches_.whole()) {
+    // The cloth is one smooth patch at the frame's end (a sheet falling or lying flat): every
+    // pair would be left out as inside it, and no two of its triangles meet, so neither the
+    // search nor the check for crossings has anything to find.
+    contacts_.clear();
+    near_motion_ = 0.0;
+    crossings_leave_contacts_ = true;
+    return;
+  }
   // Which vertices are finite at both ends of the frame, once: asked of every triangle's and
   // edge's corners, it took about 5% of a frame of bench drape-sc at 128².
   finite_.resize(x.size());
@@ -469,12 +478,12 @@ bool SelfCollision::resolve(const ClothModel& model, const std::vector<Vec3>& st
   for (const int32_t v : zoned_) zone_[v] = v, zone_state_[v] = 0;
   zoned_.clear();
 
-  ground(model, state, colliders);
   find_contacts(model, start, state.x);
   report_.contacts = static_cast<int64_t>(contacts_.size());
   bool changed = false;
   if (!contacts_.empty()) {
     changed = true;
+    ground(model, state, colliders);  // before any contact moves a particle off a collider
     for (int pass = 0; pass < kContactPasses; ++pass) {
       for (const Contact& c : contacts_) push_apart(c, model, start, state);
       if (colliders.empty()) continue;

@@ -119,6 +119,7 @@ class SelfCollision {
   /// edge of one triangle through another's inside then passes within that inradius of the
   /// other's nearest edge (no point inside a triangle is farther from all its edges), a pair
   /// sharing no vertex: a crossing leaves an edge–edge contact, and no contact means none.
+  /// Set too where the cloth is one smooth patch at the frame's end, which crosses nothing.
   bool crossings_leave_contacts_ = false;
   std::vector<std::array<int32_t, 2>> edges_;
   std::vector<Box> face_boxes_, edge_boxes_;  ///< face_boxes_: the triangles', then the vertices'

@@ -319,6 +319,11 @@ void SmoothPatches::update(const std::vector<Triangle>& triangles, const std::ve
     std::swap(frontier_, next_);
   }
   if (regions_ == 0) return;
+  if (whole()) {  // every vertex and edge in the one region (none is loose)
+    std::fill(vertex_region_.begin(), vertex_region_.end(), region_[0]);
+    std::fill(edge_region_.begin(), edge_region_.end(), region_[0]);
+    return;
+  }
   auto common = [&](const std::vector<int32_t>& begin, const std::vector<int32_t>& list,
                     int32_t i) {
     const int32_t r = region_[list[begin[i]]];

@@ -69,6 +69,12 @@ class SmoothPatches {
   /// Whether two elements of regions a and b lie in one smooth patch: no contact between them.
   static bool within_smooth(int32_t a, int32_t b) { return a == b && a >= 0; }
 
+  /// Whether the last update found one region holding every triangle: then every pair of the
+  /// cloth's elements lies inside it, none needs a search, and no two triangles meet.
+  bool whole() const {
+    return regions_ == 1 && in_regions_ == static_cast<int32_t>(region_.size());
+  }
+
   /// The patches of the hierarchy and how many of them are disks.
   int32_t patches() const { return static_cast<int32_t>(nodes_.size()); }
   int32_t disks() const;
