@@ -237,7 +237,8 @@ void Simulation::step_with_self_collision(World& world) {
     }
     solve(world, dt / parts);
     // Even a part cut short is checked: the next frame starts from it.
-    if (self_collision_->resolve(model_, frame_start_, colliders_->contact(), dt / parts, state_))
+    if (self_collision_->resolve(model_, frame_start_, colliders_->contact(), dt / parts, state_,
+                                 solver_->holds_layers()))
       solver_->state_changed();
     if (part == 0) frame_motion_ = self_collision_->near_motion() * parts;
   }
