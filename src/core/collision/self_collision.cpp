@@ -263,11 +263,8 @@ void SelfCollision::find_contacts(const ClothModel& model, const std::vector<Vec
   });
 }
 
-SelfCollision::Stencil SelfCollision::stencil(const Contact& c, const ClothModel& model,
-                                              const std::vector<Vec3>& start,
-                                              const std::vector<Vec3>& x) const {
-  Stencil st;
-  int32_t* index = st.index;
+void SelfCollision::particles_of(const Contact& c, const ClothModel& model,
+                                 int32_t index[4]) const {
   if (c.kind == 0) {
     const Triangle& tri = model.triangles[c.b];
     index[0] = c.a, index[1] = tri[0], index[2] = tri[1], index[3] = tri[2];
@@ -275,6 +272,14 @@ SelfCollision::Stencil SelfCollision::stencil(const Contact& c, const ClothModel
     index[0] = edges_[c.a][0], index[1] = edges_[c.a][1];
     index[2] = edges_[c.b][0], index[3] = edges_[c.b][1];
   }
+}
+
+SelfCollision::Stencil SelfCollision::stencil(const Contact& c, const ClothModel& model,
+                                              const std::vector<Vec3>& start,
+                                              const std::vector<Vec3>& x) const {
+  Stencil st;
+  const int32_t* index = st.index;
+  particles_of(c, model, st.index);
   Vec3 p[4];
   for (int k = 0; k < 4; ++k) p[k] = x[index[k]];
   const LayerStencil layer = layer_stencil(c.kind, p);
@@ -441,13 +446,9 @@ bool SelfCollision::remove_crossings(const ClothModel& model, const std::vector<
 void SelfCollision::gather_threads(const ClothModel& model, const ClothState& state) {
   touched_.assign(state.x.size(), 0);
   for (const Contact& c : contacts_) {
-    if (c.kind == 0) {
-      touched_[c.a] = 1;
-      for (const int32_t v : model.triangles[c.b]) touched_[v] = 1;
-    } else {
-      for (const int32_t v : edges_[c.a]) touched_[v] = 1;
-      for (const int32_t v : edges_[c.b]) touched_[v] = 1;
-    }
+    int32_t index[4];
+    particles_of(c, model, index);
+    for (const int32_t v : index) touched_[v] = 1;
   }
   touched_threads_.clear();
   thread_lengths_.clear();

@@ -101,6 +101,8 @@ class SelfCollision {
     double separation = 0.0;
     bool valid = false;  ///< false where no direction is defined (degenerate)
   };
+  /// The contact's four particles: the vertex and the triangle's corners, or both edges' ends.
+  void particles_of(const Contact& c, const ClothModel& model, int32_t index[4]) const;
   Stencil stencil(const Contact& c, const ClothModel& model, const std::vector<Vec3>& start,
                   const std::vector<Vec3>& x) const;
   /// Fills the inverse masses a contact moves its four particles with (pair_mobilities) and
