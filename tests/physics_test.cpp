@@ -56,22 +56,19 @@ TEST(Spring, SingleMassOscillatesWithPeriodTwoPiSqrtMOverK) {
 }
 
 TEST(AirDrag, ReachesTerminalSpeedSqrtMgOverRhoA) {
-  for (const Method method : {Method::symplectic, Method::implicit}) {
-    SceneDef def = bare(method);
-    def.forces.gravity = Vec3(0.0, -9.81, 0.0);
-    def.forces.air_drag = 0.01;
-    def.cloth.mass = 64 * 1e-3;  // 1 g a particle: terminal speed sqrt(1e-3·9.81/0.01) ≈ 0.99 m/s
-    Simulation sim(def);
-    for (int f = 0; f < 600; ++f) ASSERT_TRUE(sim.step());
-    const double g = 9.81, c = 0.01 / 1e-3, h = def.solver.dt / sim.substeps_per_frame();
-    // The discrete fixed point: symplectic's drag acts on the kicked velocity v + hg, and
-    // implicit's is −c·|v + hg|·v in its solve, so both have c·v·(v + hg) = g.
-    const double discrete = 0.5 * (-h * g + std::sqrt(h * h * g * g + 4.0 * g / c));
-    const double closed = std::sqrt(g / c);
-    for (const Vec3& v : sim.state().v) {
-      EXPECT_NEAR(v.norm(), discrete, 1e-9) << to_string(method);
-      EXPECT_NEAR(v.norm(), closed, 0.5 * h * g) << to_string(method);  // first order in h
-    }
+  SceneDef def = bare();
+  def.forces.gravity = Vec3(0.0, -9.81, 0.0);
+  def.forces.air_drag = 0.01;
+  def.cloth.mass = 64 * 1e-3;  // 1 g per particle: terminal speed sqrt(1e-3·9.81/0.01) ≈ 0.99 m/s
+  Simulation sim(def);
+  for (int f = 0; f < 600; ++f) ASSERT_TRUE(sim.step());
+  const double g = 9.81, c = 0.01 / 1e-3, h = def.solver.dt / sim.substeps_per_frame();
+  // The discrete fixed point: drag acts on the kicked velocity v + hg, so c·v·(v + hg) = g.
+  const double discrete = 0.5 * (-h * g + std::sqrt(h * h * g * g + 4.0 * g / c));
+  const double closed = std::sqrt(g / c);
+  for (const Vec3& v : sim.state().v) {
+    EXPECT_NEAR(v.norm(), discrete, 1e-9);
+    EXPECT_NEAR(v.norm(), closed, 0.5 * h * g);  // first order in h
   }
 }
 
@@ -179,9 +176,11 @@ TEST(Divergence, AnOverflowingStateIsCaughtWithEveryMethod) {
   }
 }
 
-// The bench's stiff drape cloth as a jittered mesh of n² particles (the border ones lighter),
-// under `implicit`.
-SceneDef jittered_drape(int n) {
+// The bench's stiff drape cloth as a jittered 64² mesh, falling under a strong per-particle
+// drag: `implicit` at one step a frame tears it within its first 20 frames while the kinetic
+// energy stays small (the springs never see the drag taken after the solve: README, Known
+// traps); at 4 steps a frame it holds.
+SceneDef falling_jittered_mesh(int substeps) {
   SceneDef def = bench_scene("drape");
   const ClothDef grid = def.cloth, defaults;
   def.cloth = defaults;
@@ -190,52 +189,24 @@ SceneDef jittered_drape(int n) {
   def.cloth.shear = grid.shear;
   def.cloth.bending = grid.bending;
   def.cloth.pins.clear();
-  def.cloth.mesh = std::make_shared<const ClothMesh>(shapes::jittered_grid(grid.width, n));
-  def.cloth.transform.translate = grid.origin + Vec3(0.5 * grid.width, 0.0, 0.5 * grid.height);
-  def.solver.method = Method::implicit;
-  return def;
-}
-
-// Falling under a strong drag per particle, each particle's drag over its own mass: taken
-// after the solve, where the springs never saw it, this tore the 64² mesh by frame 24 at one
-// step a frame (README, Known traps). The drag now acts in the solve.
-TEST(AirDrag, ImplicitHoldsAMeshOfUnequalParticlesTogether) {
-  SceneDef def = jittered_drape(64);
+  def.cloth.mesh = std::make_shared<const ClothMesh>(shapes::jittered_grid(2.0, 64));
   def.colliders.clear();
   def.forces.air_drag = 0.02;
-  Simulation sim(def);
-  double strain = 0.0;
-  for (int f = 0; f < 40; ++f) {
-    ASSERT_TRUE(sim.step()) << sim.divergence();
-    strain = std::max(strain, sim.diagnostics().max_strain);
-  }
-  EXPECT_LT(strain, 0.01);
-}
-
-// A stiff (3e6 N/m) jittered mesh landing on the ball at 0.1 s steps: one linearised step a
-// frame tears it within a few frames of landing while its kinetic energy stays below the
-// watch's tolerance; at four steps a frame it holds.
-SceneDef landing_at_long_steps(int substeps) {
-  SceneDef def = jittered_drape(32);
-  def.cloth.structural.stiffness = 3e6;
-  def.forces.air_drag = 0.0;
-  def.solver.dt = 0.1;
+  def.solver.method = Method::implicit;
   def.solver.substeps = substeps;
   return def;
 }
 
 TEST(Divergence, AClothTornByALinearisedStepIsCaughtThoughItsMotionIsSlow) {
-  Simulation torn(landing_at_long_steps(1));
-  for (int f = 0; f < 20 && torn.step(); ++f) {
+  Simulation torn(falling_jittered_mesh(1));
+  for (int f = 0; f < 40 && torn.step(); ++f) {
   }
   ASSERT_TRUE(torn.diverged());
-  EXPECT_LE(torn.diverged_frame(), 10);
-  EXPECT_LT(torn.diagnostics().kinetic_energy, 28.0);  // below the watch's tolerance
+  EXPECT_LE(torn.diverged_frame(), 30);
   EXPECT_NE(torn.divergence().find("torn apart"), std::string::npos) << torn.divergence();
   EXPECT_NE(torn.divergence().find("solver.substeps"), std::string::npos);  // the hint mends it:
-  Simulation held(landing_at_long_steps(4));
-  for (int64_t f = 0; f < 2 * torn.diverged_frame(); ++f)
-    ASSERT_TRUE(held.step()) << held.divergence();
+  Simulation held(falling_jittered_mesh(4));
+  for (int64_t f = 0; f < torn.diverged_frame(); ++f) ASSERT_TRUE(held.step()) << held.divergence();
   EXPECT_LT(held.diagnostics().max_strain, 0.1);
 }
 

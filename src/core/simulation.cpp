@@ -192,8 +192,8 @@ void Simulation::rebase_energy() {
 namespace {
 
 // A spring longer than this × its rest length is torn, not stretched by a solver's inaccuracy
-// (`implicit`'s one Newton step leaves the bench's stiff drape at most 9% long; a jittered mesh
-// torn by it once passed 100% within 15 frames and went on to 5000%: README, Known traps).
+// (`implicit`'s one Newton step leaves the bench's stiff drape at most 9% long; a torn jittered
+// mesh passed 100% within 15 frames and went on to 5000%: README, Known traps).
 constexpr double kTornStretch = 2.0;
 
 // What to try when a method blows up.
@@ -321,8 +321,8 @@ bool Simulation::step() {
                       "the energy grew to %.3g J, %.3g J more than gravity, wind and the start "
                       "state can supply (tolerance %.3g J)",
                       energy, energy - supplied, tolerance);
-      // Torn by implicit's step: CG's settings do not mend it, shorter steps do (a stiff mesh
-      // landing on the ball at 0.1 s steps tore; 4 a frame held it).
+      // Torn by implicit's step: CG's settings do not mend it (the bench's jittered mesh tore
+      // as far with cg_tolerance 1e-8), shorter steps do (4 a frame held it).
       const bool step_tore = torn > 0.0 && def_.solver.method == Method::implicit;
       divergence_ = buf + method(step_tore ? "try more solver.substeps or a smaller solver.dt, "
                                              "or the xpbd or fast method"

@@ -8,10 +8,6 @@
 // stiffness block drops its negative transverse term (forces::spring_stiffness with clamp) so
 // the system matrix stays symmetric positive definite and CG applies.
 //
-// The seed's drag per particle is a force of the same solve, so the springs see it: taken
-// after the solve, each particle by its own drag over its own mass, it pulled apart a stiff
-// mesh whose particles weigh differently (the bench's jittered drape cloth tore at frame 9).
-//
 // Contacts are constraints of the same solve (B&W §5.3–5.4): a particle that would move into a
 // collider this substep has its normal velocity prescribed (to arrive at the surface, or to stay
 // on it) and only its tangential directions are solved for, so its neighbours' springs see
@@ -70,10 +66,9 @@ constexpr double kMaxFactorCredit = 4.0;
 // The steps of a frame in which the cloth can meet a collider's sharp features (a box's or a
 // mesh's edges and corners, an open sheet's rim). Their pushes come after the solve, which
 // does not know them: at one step a frame a coarse cloth dropped over a box's corner tore in
-// 12 of 27 drops about the slippery one of `ABoxsEdgesAndCornersNeverPierceTheCloth` (the
+// 14 of 27 drops about the slippery one of `ABoxsEdgesAndCornersNeverPierceTheCloth` (the
 // corner pushing the triangle over it up, the solve pulling it back down), and an open sheet's
-// rim cut the cloth at frame 61; at two steps none tore but the rim still cut; at four none
-// tore and the rim held.
+// rim cut the cloth at frame 61; at four steps none tore and the rim held.
 constexpr int kStepsAtSharpFeatures = 4;
 
 class Implicit final : public Solver {
@@ -86,7 +81,6 @@ class Implicit final : public Solver {
     contact_mu_.assign(n, 0.0);
     block_.assign(w.model.springs.size(), Mat3::Zero());
     diag_.assign(n, Mat3::Zero());
-    drag_.assign(n, 0.0);
     precond_.assign(n, Mat3::Zero());
     filter_.assign(n, Mat3::Identity());
     // A factor stays while the springs and elements are the same (a grab or a new pin prepares
@@ -139,7 +133,9 @@ class Implicit final : public Solver {
       choose_next(w.model, solve(w.model, s));
       last_dv_ = dv_;
       warm_ = true;
-      // Newton update with contact friction, then the drag's rest and the drift.
+      // Newton update with contact friction, then drag and the drift. (Drag after the solve
+      // damps the one-step solve's outliers; taken before it the seed's sphere never came to
+      // rest: README, Known traps.)
 #pragma omp parallel for schedule(static) if (worth_threads(n))
       for (int32_t i = 0; i < n; ++i) {
         s.v[i] += dv_[i];
@@ -149,7 +145,7 @@ class Implicit final : public Solver {
           s.v[i] = contact_surface_[i] + rel;
         }
       }
-      after_solve_drag(w, h);
+      apply_air_drag(w, h);
       drift_constrain(w, h);
     }
     update_normals(w.model, s);
@@ -158,13 +154,13 @@ class Implicit final : public Solver {
   int substeps() const override {
     return substeps_;
   }
-  // Its one linearised step can tear a stiff cloth landing at long steps (README, Known traps).
+  // Its drag is taken after the solve (README, Known traps).
   bool may_tear() const override {
     return true;
   }
   int64_t workspace_bytes() const override {
     return heap_bytes(rhs_, force_, dv_, r_, s_, c_, q_, last_dv_, contact_n_, contact_surface_,
-                      contact_dvn_, contact_mu_, drag_, block_, diag_, precond_, filter_) +
+                      contact_dvn_, contact_mu_, block_, diag_, precond_, filter_) +
            heap_bytes(incident_begin_, incident_) + bending_.bytes() +
            (factor_ ? factor_->bytes() : 0);
   }
@@ -179,33 +175,21 @@ class Implicit final : public Solver {
     ClothState& s = w.state;
     const int32_t n = m.size();
     const bool wind = w.forces.wind.strength > 0.0 && w.forces.wind.coefficient > 0.0;
-    // The seed's drag −c·|v|·v is taken in the solve as −c·s·v at the end velocity, s the
-    // speed v₀ + h·g predicts (the speed a falling particle reaches within the step): h·c·s on
-    // the system's diagonal, so the springs see each particle's drag over its own mass.
-    const double drag = w.air_drag();
 #pragma omp parallel for schedule(static) if (worth_threads(n))
     for (int32_t i = 0; i < n; ++i) {
-      const double speed = (s.v[i] + h * w.forces.gravity).norm();
-      drag_[i] = s.inv_mass[i] > 0.0 && std::isfinite(speed) ? h * drag * speed : 0.0;
       force_[i] = m.mass[i] * w.forces.gravity;
-      diag_[i] = (m.mass[i] + drag_[i]) * Mat3::Identity();
+      diag_[i] = m.mass[i] * Mat3::Identity();
     }
     if (wind) {
       update_normals(m, s);
       forces::add_wind(m, s, w.forces.wind, t, force_);
     }
     // The external impulse h·f_ext starts the right-hand side; its M⁻¹-norm is the floor of
-    // the CG stopping test. The drag's impulse −h·c·s·v₀ joins it, but not the floor: near the
-    // terminal speed it cancels gravity's, and a floor near zero had CG chase round-off. The
-    // contacts predict from h·f_ext/m without the drag (with it, the seed's sphere under
-    // `implicit` lost that much of its friction and slid off).
+    // the CG stopping test.
     ext_norm2_ = deterministic_sum(n, [&](int64_t i) {
       rhs_[i] = h * force_[i];
-      dv_[i] = s.inv_mass[i] * rhs_[i];
-      const double floor = s.inv_mass[i] * rhs_[i].squaredNorm();
-      force_[i] -= (drag_[i] / h) * s.v[i];
-      rhs_[i] -= drag_[i] * s.v[i];
-      return floor;
+      dv_[i] = s.inv_mass[i] * rhs_[i];  // the first guess, before contacts filter it
+      return s.inv_mass[i] * rhs_[i].squaredNorm();
     });
     const double h2 = h * h;
     for (int c = 0; c < m.colours(); ++c) {
@@ -267,9 +251,6 @@ class Implicit final : public Solver {
       }
       precond_[i] = diag_[i].inverse();
       const Vec3 predicted = s.v[i] + dv_[i];  // with the external forces only
-      // The first guess, with the drag: exact in free fall.
-      if (drag_[i] > 0.0)
-        dv_[i] = (m.mass[i] * dv_[i] - drag_[i] * s.v[i]) / (m.mass[i] + drag_[i]);
       // Up to two constraints the particle would violate this substep: colliders (normal
       // outward, gap to the thickness), then long-range limits (normal toward the pin, gap
       // to the limit). A particle below two pins is usually at both limits at once.
@@ -342,7 +323,7 @@ class Implicit final : public Solver {
     const bool bending = !bending_.empty();
 #pragma omp parallel for schedule(static) if (worth_threads(n))
     for (int32_t i = 0; i < n; ++i) {
-      Vec3 sum = (m.mass[i] + drag_[i]) * p[i];
+      Vec3 sum = m.mass[i] * p[i];
       for (int32_t k = incident_begin_[i]; k < incident_begin_[i + 1]; ++k) {
         const Incident& e = incident_[k];
         sum += block_[e.spring] * (p[i] - p[e.other]);
@@ -446,28 +427,6 @@ class Implicit final : public Solver {
     next_ = block_jacobi < margin() * fresh ? Preconditioner::jacobi : Preconditioner::fresh_factor;
   }
 
-  // After the solve: the seed's drag on the speed a particle gained beyond the predicted s
-  // (v ← v·(m + h·c·s)/(m + h·c·|v|), the semi-implicit drag at |v| less what the solve took),
-  // which damps the one step's outliers (without it the grid's drape at 128² ended at 22–28%
-  // strain instead of 8%), then the drag on the area.
-  void after_solve_drag(World& w, double h) {
-    ClothState& s = w.state;
-    const int32_t n = w.model.size();
-    const double drag = w.air_drag();
-    if (drag > 0.0) {
-#pragma omp parallel for schedule(static) if (worth_threads(n))
-      for (int32_t i = 0; i < n; ++i) {
-        if (drag_[i] == 0.0) continue;
-        const double now = h * drag * s.v[i].norm();
-        if (now > drag_[i]) s.v[i] *= (w.model.mass[i] + drag_[i]) / (w.model.mass[i] + now);
-      }
-    }
-    if (w.area_drag()) {
-      update_normals(w.model, s);
-      forces::apply_area_drag(w.model, s, w.air_density(), w.forces.drag_coefficient, h, s.v);
-    }
-  }
-
   double margin() const {
     return credit_ < 0.0 ? kFactorMargin : 1.0;
   }
@@ -548,7 +507,6 @@ class Implicit final : public Solver {
   std::vector<Vec3> contact_surface_;  // the velocity of the surface it touches (m/s)
   std::vector<double> contact_dvn_;    // its normal velocity change (m/s), 0 = no contact
   std::vector<double> contact_mu_;     // its friction coefficient
-  std::vector<double> drag_;           // per particle: h·c·s, the seed's drag in the solve
   std::vector<Mat3> block_;            // per spring: h²K + h·C
   std::vector<Mat3> diag_;             // per particle: the system matrix's diagonal block
   std::vector<Mat3> precond_;          // its inverse, zero on constrained particles
