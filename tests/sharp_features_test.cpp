@@ -180,11 +180,11 @@ TEST(FeaturePush, AClothEdgeAcrossABoxEdgeIsPushedOutToTheGap) {
   EXPECT_FALSE(edge_edge_push(e, Vec3(-0.1, -0.01, 0.2), q, 0.005, s, n, depth));
 }
 
-// A blade: an open sheet's rim along z, the sheet on x < 0 in the plane y = 0. A cloth edge
-// through the plane beyond the rim is kept the gap from it; one through the sheet near the
-// rim (come round it) is pushed out past the rim along the sheet; one wholly on a side has
-// nothing to do with it.
-TEST(FeaturePush, AClothEdgeAcrossABladeIsKeptBeyondItsRim) {
+// A ridge folded flat onto itself (its faces' normals opposite, not a blade: an open sheet's
+// rim is marked as one), along z, the sheet on x < 0 in the plane y = 0. A cloth edge through
+// the plane beyond it is kept the gap from it; one through the sheet near it (come round it)
+// is pushed out past it along the sheet; one wholly on a side has nothing to do with it.
+TEST(FeaturePush, AClothEdgeAcrossAFlatFoldedRidgeIsKeptBeyondIt) {
   const SharpFeatures::Edge e{Vec3(0.0, 0.0, -1.0), Vec3(0.0, 0.0, 1.0), Vec3::UnitY(),
                               -Vec3::UnitY(), Vec3::UnitX()};
   auto across = [](double x) { return std::pair{Vec3(x, 0.1, 0.3), Vec3(x, -0.1, 0.3)}; };
@@ -203,6 +203,28 @@ TEST(FeaturePush, AClothEdgeAcrossABladeIsKeptBeyondItsRim) {
   EXPECT_FALSE(edge_edge_push(e, p, q, 0.005, s, n, depth));
   EXPECT_FALSE(
       edge_edge_push(e, Vec3(-0.02, 0.1, 0.3), Vec3(0.02, 0.001, 0.3), 0.005, s, n, depth));
+}
+
+// A blade: an open sheet's rim along z from −1 to 1, the sheet on x < 0 in the plane y = 0.
+// A cloth edge from over the sheet to past the rim, its point nearest the rim on the far side
+// of the plane, cuts into the sheet before the rim: it is moved back round the rim, to the
+// side its end over the sheet is on. One through the sheet 30 cm in, its other end behind the
+// rim's line but past the blade's end (z < −1), is not a cut of this rim at all, though its
+// nearest point lies beside the blade on the far side too: it was moved round the rim, 30 cm
+// in one push, and a cloth sliding off a sheet's corner was torn.
+TEST(FeaturePush, AClothEdgeCuttingPastABladeIsMovedBackRoundItsRim) {
+  SharpFeatures::Edge e{Vec3(0.0, 0.0, -1.0), Vec3(0.0, 0.0, 1.0), Vec3::UnitY(), -Vec3::UnitY(),
+                        Vec3::UnitX()};
+  e.blade = true;
+  double s = 0.0, depth = 0.0;
+  Vec3 n;
+  ASSERT_TRUE(
+      edge_edge_push(e, Vec3(-0.02, 0.01, 0.3), Vec3(0.03, -0.02, 0.3), 0.005, s, n, depth));
+  EXPECT_GT(n.y(), 0.0);  // to the upper side, where the end over the sheet is
+  EXPECT_GT(depth, 0.005);
+  EXPECT_LT(depth, 0.01);
+  EXPECT_FALSE(
+      edge_edge_push(e, Vec3(-0.3, 0.01, -0.8), Vec3(-0.299, -0.03, -1.01), 0.005, s, n, depth));
 }
 
 // A triangle through a box's corner (faces +x, +y, +z) is pushed out along its own normal to

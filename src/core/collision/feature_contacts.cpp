@@ -48,14 +48,20 @@ bool blade_push(const SharpFeatures::Edge& e, const Vec3& p, const Vec3& q, doub
     const Vec3 ab = e.b - e.a;
     // An end within `gap` of the rim may have come round it (particle contacts keep it off the
     // rim, not on its side): it is not over the sheet until it is farther in.
+    auto behind = [&](const Vec3& end) { return e.out.dot(end - e.a) < -gap; };
     auto over = [&](const Vec3& end) {
       const double along = (end - e.a).dot(ab);
-      return e.out.dot(end - e.a) < -gap && along >= 0.0 && along <= ab.squaredNorm();
+      return behind(end) && along >= 0.0 && along <= ab.squaredNorm();
     };
     const bool p_over = over(p), q_over = over(q);
     if (p_over && q_over) return false;
+    // The other end must lie past the rim's line: one behind it, past the blade's end, has the
+    // edge passing another rim edge or the corner (the edge's own pairs), however near this
+    // rim's line the nearest points fall. (Taken as a cut of this rim, a cloth edge by the
+    // neighbouring rim was moved round this one, 30 cm in one push.)
+    const bool crosses = p_over ? !behind(q) : q_over && !behind(p);
     const Vec3& over_end = p_over ? p : q;
-    const double side = p_over || q_over ? (e.n1.dot(over_end - e.a) > 0.0 ? 1.0 : -1.0) : 0.0;
+    const double side = crosses ? (e.n1.dot(over_end - e.a) > 0.0 ? 1.0 : -1.0) : 0.0;
     if (side * e.n1.dot(d) < 0.0) {
       n = -d / distance;
       depth = gap + distance;
