@@ -859,27 +859,28 @@ TEST_P(EveryMethod, ABoxsEdgesAndCornersNeverPierceTheCloth) {
 // turned so its rim crosses the cloth's cells at a slant, and tilted so the cloth slides over
 // its lower rim): the rim is a blade, and no rim edge may pass through a cloth triangle at any
 // frame's end. Without the rim's features every method let the rim cut through the cloth at
-// frame 4.
+// frame 4. The slipperier sheet was found by varying the first: the irregular cloth sliding
+// off its corner tore `xpbd` at frame 51 while a rim's push took an edge through the sheet for
+// a cut of that rim (sharp_features_test.cpp).
 TEST_P(EveryMethod, AnOpenSheetsRimNeverCutsThroughTheCloth) {
-  if (GetParam().method == Method::fast)
-    GTEST_SKIP() << "NOT reached with fast (one step a frame): a cloth triangle draped round the "
-                    "sheet's corner is cut by it at frame 85 of 90 (README, Colliders)";
-  for (const bool as_mesh : {false, true}) {
-    SceneDef def = coarse_cloth_at(0.05, as_mesh, GetParam());
-    const Mat3 turn = rotation_xyz(Vec3(10.0, 30.0, 0.0));
-    const ColliderDef sheet = square_sheet(0.15, turn, 0.2);
-    const std::vector<Vec3>& rim = sheet.mesh->positions;
-    def.colliders = {sheet};
-    std::vector<std::pair<Vec3, Vec3>> edges;
-    for (int k = 0; k < 4; ++k) edges.emplace_back(rim[k], rim[(k + 1) % 4]);
-    Simulation sim(def);
-    for (int f = 0; f < 90; ++f) {
-      ASSERT_TRUE(sim.step()) << sim.divergence();
-      const int64_t crossings = segments_through_cloth(edges, sim);
-      ASSERT_EQ(crossings, 0) << "the sheet's rim cuts through the cloth at frame " << f
-                              << (as_mesh ? ", cloth as a mesh" : "");
+  for (const double friction : {0.2, 0.1})
+    for (const bool as_mesh : {false, true}) {
+      SceneDef def = coarse_cloth_at(0.05, as_mesh, GetParam());
+      const Mat3 turn = rotation_xyz(Vec3(10.0, 30.0, 0.0));
+      const ColliderDef sheet = square_sheet(0.15, turn, friction);
+      const std::vector<Vec3>& rim = sheet.mesh->positions;
+      def.colliders = {sheet};
+      std::vector<std::pair<Vec3, Vec3>> edges;
+      for (int k = 0; k < 4; ++k) edges.emplace_back(rim[k], rim[(k + 1) % 4]);
+      Simulation sim(def);
+      for (int f = 0; f < 90; ++f) {
+        ASSERT_TRUE(sim.step()) << sim.divergence();
+        const int64_t crossings = segments_through_cloth(edges, sim);
+        ASSERT_EQ(crossings, 0) << "the sheet's rim cuts through the cloth at frame " << f
+                                << ", friction " << friction
+                                << (as_mesh ? ", cloth as a mesh" : "");
+      }
     }
-  }
 }
 
 // A thin sheet (an open mesh, wider than the cloth) under a cloth dropped from half a metre:

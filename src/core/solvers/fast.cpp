@@ -63,7 +63,7 @@ class Fast final : public Solver {
 
   void step_frame(World& w, double dt) override {
     (void)dt;  // h_ was fixed in build(), with the factorisation (dt never changes between)
-    hold_off_still_balls(w);
+    choose_substeps(w);
     ClothState& s = w.state;
     const ClothModel& m = w.model;
     const int32_t n = m.size();
@@ -124,14 +124,15 @@ class Fast final : public Solver {
   // Cloth coming fast at a small still ball parts round it in a step this long (a sheet dropped
   // onto a ball of radius 10 cm at 10 m/s went through at frame 61): the frames where that can
   // happen take the substeps ColliderSet::substeps_for asks for (still balls only: the curtain's
-  // moving ball holds without), the system built and factorised again for their h, and the
-  // scene's substeps after.
-  void hold_off_still_balls(const World& w) {
+  // moving ball holds without), and frames at sharp features kStepsAtSharpFeatures; the system
+  // built and factorised again for their h, and the scene's substeps after.
+  void choose_substeps(const World& w) {
     int substeps = def_.substeps > 0 ? def_.substeps : 1;
     if (w.bodies)
       substeps = std::max(
           substeps, w.bodies->substeps_for(w.state.x, w.state.v, w.state.inv_mass, w.time,
                                            w.time + def_.dt, ColliderSet::Counted::still_round));
+    if (w.features) substeps = std::max(substeps, kStepsAtSharpFeatures);
     if (substeps != substeps_) build(w, substeps);
   }
 

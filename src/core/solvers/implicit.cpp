@@ -63,13 +63,6 @@ constexpr double kFactorMargin = 2.0;
 // that a cloth that changes from slow to fast is recognised after a factor or two.
 constexpr double kFactorCreditStart = 2.0;
 constexpr double kMaxFactorCredit = 4.0;
-// The steps of a frame in which the cloth can meet a collider's sharp features (a box's or a
-// mesh's edges and corners, an open sheet's rim). Their pushes come after the solve, which
-// does not know them: at one step a frame a coarse cloth dropped over a box's corner tore in
-// 14 of 27 drops about the slippery one of `ABoxsEdgesAndCornersNeverPierceTheCloth` (the
-// corner pushing the triangle over it up, the solve pulling it back down), and an open sheet's
-// rim cut the cloth at frame 61; at four steps none tore and the rim held.
-constexpr int kStepsAtSharpFeatures = 4;
 
 class Implicit final : public Solver {
  public:
