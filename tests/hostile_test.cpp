@@ -355,6 +355,39 @@ TEST_F(Hostile, AClothStartingInsideAColliderIsBadInputNamingIt) {
   }
 }
 
+// A cloth placed so far from the origin that double precision rounds its positions in steps
+// too coarse for its springs: at 1e20 m the grid's particles fell onto each other and it ran
+// on with springs of rest length 0, printing a strain of "inf%" and exiting 0. It is bad input
+// naming the key that placed it, saying how far the cloth may lie; a cloth 1e6 m out runs.
+TEST_F(Hostile, AClothTooFarFromTheOriginForItsEdgesIsBadInput) {
+  struct Case {
+    std::string args, words;
+  };
+  // (At 1e20 the file's own triangle would already have no area, an error of its own.)
+  std::ofstream(path("far.obj")) << "v 1e13 1 0\nv 10000000000000.1 1 0\nv 1e13 1 0.1\n"
+                                    "f 1 2 3\n";
+  std::ofstream(path("far.json")) << R"({"cloth": {"mesh": "far.obj", "pins": []},
+    "duration": 0.1})";
+  for (const Case& c : std::vector<Case>{
+           {scene("hang") + " --set 'cloth.origin=[1e20,0,0]'",
+            "cloth.origin: places the cloth up to 1e+20 m from the origin"},
+           {scene("skirt") + " --set 'cloth.transform.translate=[0,1e15,0]'",
+            "cloth.transform: places the cloth up to 1e+15 m from the origin"},
+           {"far.json", "cloth.mesh (far.obj): has vertices up to 1e+13 m from the origin"}}) {
+    const Result r = drape("run " + c.args);
+    EXPECT_EQ(r.code, 2) << c.args << ": " << r.err;
+    EXPECT_NE(r.err.find(c.words), std::string::npos) << c.args << ": " << r.err;
+    EXPECT_EQ(r.err.find("diverged"), std::string::npos) << r.err;
+  }
+  const Result grid = drape("run " + scene("hang") + " --set 'cloth.origin=[1e20,0,0]'");
+  EXPECT_NE(grid.err.find("keep the cloth within 2.84e+11 m of the origin"), std::string::npos)
+      << grid.err;
+  const Result near = drape("run " + scene("hang") +
+                            " --set 'cloth.origin=[1e6,2,0]' --seconds 0.1 --stats stats.json");
+  ASSERT_EQ(near.code, 0) << near.err;
+  EXPECT_TRUE(read_json(path("stats.json")).at("finite").get<bool>());
+}
+
 // Pieces of a cloth, or of a body, far apart: the coarse grids over them (self-collision's
 // smooth parts, a body's sharp features) once counted their cells in an int, which overflowed
 // (a cloth of two sheets 1e10 m apart threw std::length_error; such a body crashed the run).

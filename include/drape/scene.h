@@ -277,6 +277,10 @@ const char* to_string(Orientation o);
 /// definition built in C++ is held to the same rules as one read from a file.
 void check(const SceneDef& def);
 
+/// How messages name the cloth's mesh: "cloth.mesh (FILE)", or "cloth.mesh" for one made in
+/// code.
+std::string cloth_mesh_key(const ClothDef& c);
+
 /// Frames in a run: round(duration / dt).
 int64_t frame_count(const SceneDef& def);
 

@@ -126,6 +126,10 @@ void check_springs(const SpringParams& p, const std::string& path) {
 
 }  // namespace
 
+std::string cloth_mesh_key(const ClothDef& c) {
+  return c.mesh_file.empty() ? "cloth.mesh" : "cloth.mesh (" + c.mesh_file + ")";
+}
+
 void check(const SceneDef& def) {
   const ClothDef& c = def.cloth;
   if (c.mesh) {
@@ -143,9 +147,7 @@ void check(const SceneDef& def) {
     require(grid_keys.empty(), "cloth.mesh",
             "is given, so the grid's keys (" + grid_keys +
                 ") have no meaning; place the mesh with cloth.transform instead");
-    const std::string where =
-        c.mesh_file.empty() ? "cloth.mesh" : "cloth.mesh (" + c.mesh_file + ")";
-    model::check_mesh(*c.mesh, where);
+    model::check_mesh(*c.mesh, cloth_mesh_key(c));
     finite(c.transform.translate, "cloth.transform.translate");
     finite(c.transform.rotate, "cloth.transform.rotate");
     finite(c.transform.scale, "cloth.transform.scale");

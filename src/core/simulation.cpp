@@ -12,6 +12,7 @@
 #include "drape/error.h"
 #include "forces.h"
 #include "forces/bending.h"
+#include "largest_coordinate.h"
 #include "long_range.h"
 #include "solvers/solver.h"
 #include "solvers/system_factor.h"
@@ -53,12 +54,62 @@ void check_starts_outside(const std::vector<Collider>& colliders, double perturb
   }
 }
 
+// Coordinates so large that double precision cannot hold the cloth's edges: a grid placed
+// 1e20 m from the origin had its particles rounded onto each other, ran with springs of rest
+// length 0 (its strain printed as "inf%") and exited 0; at 1e307 it "diverged" with a hint
+// about the step. Every spring must span at least 2^10 steps of its ends' rounding, so that
+// positions hold it to about a thousandth, under the strains a user is shown and the bars held
+// (1e-2): a cloth of 1 cm edges may lie 4e10 m from the origin.
+double shortest_spring(const ClothModel& m) {
+  double shortest = std::numeric_limits<double>::infinity();
+  for (const Spring& s : m.springs) shortest = std::min(shortest, s.rest);
+  return shortest;
+}
+
+void check_resolvable(const ClothDef& def, const ClothModel& m) {
+  constexpr double kStepsPerEdge = 0x1p10;
+  constexpr double kEpsilon = std::numeric_limits<double>::epsilon();
+  auto resolvable = [&](const ClothModel& model) {
+    return model.springs.empty() ||
+           shortest_spring(model) >=
+               kStepsPerEdge * kEpsilon * largest_coordinate(model.rest_position);
+  };
+  if (resolvable(m)) return;
+  // The cloth built where its placing (the grid's origin, the mesh's translation) does not put
+  // it: if it is held there, the placing is at fault, and the springs it has there say how far
+  // it may go; else the mesh's own vertices are.
+  ClothDef here = def;
+  here.origin = Vec3::Zero();
+  here.transform.translate = Vec3::Zero();
+  const ClothModel unplaced = build_model(here);
+  const bool placed = resolvable(unplaced);
+  const double largest = largest_coordinate(m.rest_position), meant = shortest_spring(unplaced);
+  const std::string key = !placed    ? cloth_mesh_key(def)
+                          : def.mesh ? "cloth.transform"
+                                     : "cloth.origin";
+  char problem[400];
+  std::snprintf(problem, sizeof problem,
+                "%s up to %.3g m from the origin, where positions are rounded in steps of %.3g "
+                "m: too coarse for its shortest spring, %.3g m at rest, which needs steps of a "
+                "thousandth of it; ",
+                placed ? "places the cloth" : "has vertices", largest, largest * kEpsilon, meant);
+  std::string advice = "move its vertices nearer the origin";
+  if (placed) {
+    char within[96];
+    std::snprintf(within, sizeof within, "keep the cloth within %.3g m of the origin",
+                  meant / (kStepsPerEdge * kEpsilon));
+    advice = within;
+  }
+  throw InputError(key, problem + advice);
+}
+
 }  // namespace
 
 Simulation::Simulation(const SceneDef& def)
     : def_(def), attachments_(std::make_unique<LongRange>()) {
   check(def_);
   model_ = build_model(def_.cloth);
+  check_resolvable(def_.cloth, model_);
   state_ = initial_state(def_.cloth, model_);
   Vec3 lo = model_.rest_position[0], hi = lo;
   for (const Vec3& x : model_.rest_position) {
