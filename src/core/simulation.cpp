@@ -54,18 +54,19 @@ void check_starts_outside(const std::vector<Collider>& colliders, double perturb
   }
 }
 
-// Coordinates so large that double precision cannot hold the cloth's edges: a grid placed
-// 1e20 m from the origin had its particles rounded onto each other, ran with springs of rest
-// length 0 (its strain printed as "inf%") and exited 0; at 1e307 it "diverged" with a hint
-// about the step. Every spring must span at least 2^10 steps of its ends' rounding, so that
-// positions hold it to about a thousandth, under the strains a user is shown and the bars held
-// (1e-2): a cloth of 1 cm edges may lie 4e10 m from the origin.
+// The rest length of the model's shortest spring (infinity for none).
 double shortest_spring(const ClothModel& m) {
   double shortest = std::numeric_limits<double>::infinity();
   for (const Spring& s : m.springs) shortest = std::min(shortest, s.rest);
   return shortest;
 }
 
+// Coordinates so large that double precision cannot hold the cloth's edges: a grid placed
+// 1e20 m from the origin had its particles rounded onto each other, ran with springs of rest
+// length 0 (its strain printed as "inf%") and exited 0; at 1e307 it "diverged" with a hint
+// about the step. Every spring must span at least 2^10 steps of its ends' rounding, so that
+// positions hold it to about a thousandth, under the strains a user is shown and the bars held
+// (1e-2): a cloth of 1 cm edges may lie 4e10 m from the origin.
 void check_resolvable(const ClothDef& def, const ClothModel& m) {
   constexpr double kStepsPerEdge = 0x1p10;
   constexpr double kEpsilon = std::numeric_limits<double>::epsilon();
