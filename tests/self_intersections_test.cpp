@@ -220,6 +220,42 @@ TEST(SelfIntersections, NonFiniteTrianglesAreLeftOut) {
   EXPECT_LE(after, before + 16);  // the huge triangles may cross some; nothing hangs or throws
 }
 
+// Self-collision's fail-safe asks only for the pairs with a suspect triangle (one it moved or
+// that lies at a contact): the finder must return exactly the crossing pairs, each against the
+// brute-force test, of which one triangle or both are suspects, whatever the suspects (none,
+// a few scattered, a block, all of them).
+TEST(SelfIntersections, SuspectsGetEveryCrossingPairTheyAreIn) {
+  Mesh m = crumpled(24, 1.5, 5);
+  m.x[3] = Vec3(std::nan(""), 0, 0);  // triangles with a non-finite corner are left out
+  const int32_t count = static_cast<int32_t>(m.triangles.size());
+  std::vector<drape::TrianglePair> all;
+  drape::CrossingFinder finder;
+  finder.find(m.triangles, m.x, all);
+  ASSERT_GT(all.size(), 50u) << "the test should crumple the cloth";
+  for (const drape::TrianglePair& p : all)
+    ASSERT_TRUE(drape::testing_support::triangles_cross(m.triangles[p.s], m.triangles[p.t], m.x));
+  std::mt19937 random(3);
+  for (const double share : {0.0, 0.02, 0.3, 1.0}) {
+    std::vector<uint8_t> suspect(count);
+    std::bernoulli_distribution pick(share);
+    for (uint8_t& s : suspect) s = pick(random);
+    if (share == 0.3)  // and a block, so that whole cells hold none
+      std::fill(suspect.begin(), suspect.begin() + count / 2, 0);
+    std::vector<drape::TrianglePair> expected, found;
+    for (const drape::TrianglePair& p : all)
+      if (suspect[p.s] || suspect[p.t]) expected.push_back(p);
+    finder.find(m.triangles, m.x, &suspect, found);
+    ASSERT_EQ(found.size(), expected.size()) << "share " << share;
+    for (size_t k = 0; k < found.size(); ++k) {
+      EXPECT_EQ(found[k].s, expected[k].s) << "share " << share;
+      EXPECT_EQ(found[k].t, expected[k].t) << "share " << share;
+    }
+    if (share > 0.0) {
+      EXPECT_FALSE(found.empty()) << "share " << share;
+    }
+  }
+}
+
 TEST(SelfIntersections, SameCountOnOneAndTwoThreads) {
 #ifdef _OPENMP
   const Mesh m = crumpled(96, 1.5, 11);

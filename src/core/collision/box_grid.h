@@ -43,6 +43,16 @@ class BoxGrid {
     while (middle < end && entry(middle) < split) ++middle;
     pairs(c, begin, middle, end, f, false);
   }
+  /// The same for the pairs of which at least one box is below `split`; a cell with none
+  /// is passed over before its boxes are read.
+  template <class F>
+  void each_pair_touching(int64_t c, int32_t split, F&& f) const {
+    const int64_t begin = cell_begin_[c], end = cell_begin_[c + 1];
+    if (entry(begin) >= split) return;
+    int64_t middle = begin;
+    while (middle < end && entry(middle) < split) ++middle;
+    pairs(c, begin, middle, end, f, true);
+  }
 
   int64_t bytes() const {
     return static_cast<int64_t>(cell_lo_.capacity() * sizeof(Cell) * 2 +

@@ -39,17 +39,26 @@ class CrossingFinder {
  public:
   /// Sets `out` to every crossing pair, sorted, the same for any thread count.
   void find(const std::vector<Triangle>& triangles, const std::vector<Vec3>& positions,
-            std::vector<TrianglePair>& out);
+            std::vector<TrianglePair>& out) {
+    find(triangles, positions, nullptr, out);
+  }
+  /// The same for the pairs with at least one triangle t where suspect[t] is non-zero, when the
+  /// caller knows that no other pair can cross: only the cells that hold a suspect are searched.
+  void find(const std::vector<Triangle>& triangles, const std::vector<Vec3>& positions,
+            const std::vector<uint8_t>* suspect, std::vector<TrianglePair>& out);
   /// Heap bytes its arrays hold (for memory reports).
   int64_t bytes() const {
-    return heap_bytes(boxes_, planes_, finite_, kept_) + grid_.bytes() + found_.bytes();
+    return heap_bytes(boxes_, planes_, slot_, kept_) + grid_.bytes() + found_.bytes();
   }
 
  private:
+  /// Box and plane k are triangle slot_[k]'s: the suspects' first (all of them when none is
+  /// named), so that the grid tells their pairs by index; triangles with a non-finite corner
+  /// are left out.
   std::vector<Box> boxes_;
   std::vector<CertifiedPlane> planes_;
-  std::vector<unsigned char> finite_;  ///< per triangle: its corners are finite
-  std::vector<int32_t> kept_;
+  std::vector<int32_t> slot_;
+  std::vector<int32_t> kept_;  ///< 0 … slot_.size() − 1, as the grid takes them
   BoxGrid grid_;
   ThreadLists<TrianglePair> found_;
 };

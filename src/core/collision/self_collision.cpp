@@ -105,7 +105,8 @@ int SelfCollision::parts_for(double motion) const {
 int64_t SelfCollision::bytes() const {
   return heap_bytes(edges_, face_boxes_, edge_boxes_, kept_faces_, kept_edges_, contacts_, solved_,
                     held_.pairs, contacted_, mobility_, crossing_, zone_, zone_state_, zoned_,
-                    boxed_, finite_, threads_, touched_threads_, thread_lengths_, touched_) +
+                    boxed_, finite_, threads_, touched_threads_, thread_lengths_, touched_,
+                    suspect_) +
          face_grid_.bytes() + edge_grid_.bytes() + found_.bytes() + patches_.bytes() +
          crossing_finder_.bytes();
 }
@@ -341,10 +342,29 @@ void SelfCollision::push_apart(const Contact& c, const ClothModel& model,
   for (int k = 0; k < 4; ++k) x[index[k]] -= (cancel * coef[k] * mobility[k] / weight) * slide;
 }
 
+void SelfCollision::find_crossings(const ClothModel& model, const std::vector<Vec3>& x) {
+  if (!crossings_leave_contacts_) {
+    crossing_finder_.find(model.triangles, x, crossing_);
+    return;
+  }
+  // Every crossing at the search left an edge–edge contact (crossings_leave_contacts_), whose
+  // particles are touched_; a pair of triangles none of whose corners is touched or has moved
+  // since is as it was then, and so crosses only where it crossed then: never. Only pairs with
+  // a triangle at a contact or moved can cross.
+  const std::vector<Triangle>& triangles = model.triangles;
+  suspect_.resize(triangles.size());
+  auto suspect = [&](int32_t v) { return touched_[v] != 0 || x[v] != solved_[v]; };
+  for (size_t t = 0; t < triangles.size(); ++t) {
+    const Triangle& tri = triangles[t];
+    suspect_[t] = suspect(tri[0]) || suspect(tri[1]) || suspect(tri[2]);
+  }
+  crossing_finder_.find(triangles, x, &suspect_, crossing_);
+}
+
 bool SelfCollision::remove_crossings(const ClothModel& model, const std::vector<Vec3>& start,
                                      double dt, ClothState& state) {
   std::vector<Vec3>& x = state.x;
-  crossing_finder_.find(model.triangles, x, crossing_);
+  find_crossings(model, x);
   report_.crossings = static_cast<int64_t>(crossing_.size());
   if (crossing_.empty()) return false;
 
@@ -423,7 +443,7 @@ bool SelfCollision::remove_crossings(const ClothModel& model, const std::vector<
         state.v[v] = velocity + spin.cross(x[v] - moved);
       }
     }
-    crossing_finder_.find(model.triangles, x, crossing_);
+    find_crossings(model, x);
     // A round that can freeze nothing more (every crossing pair held already: pinned or held
     // particles moved into it) cannot help: what is left is reported.
     if (!rigid) {
@@ -443,13 +463,16 @@ bool SelfCollision::remove_crossings(const ClothModel& model, const std::vector<
   return true;
 }
 
-void SelfCollision::gather_threads(const ClothModel& model, const ClothState& state) {
-  touched_.assign(state.x.size(), 0);
+void SelfCollision::touch(const ClothModel& model) {
+  touched_.assign(model.size(), 0);
   for (const Contact& c : contacts_) {
     int32_t index[4];
     particles_of(c, model, index);
     for (const int32_t v : index) touched_[v] = 1;
   }
+}
+
+void SelfCollision::gather_threads(const ClothState& state) {
   touched_threads_.clear();
   thread_lengths_.clear();
   for (int32_t k = 0; k < static_cast<int32_t>(threads_.size()); ++k) {
@@ -530,7 +553,8 @@ bool SelfCollision::resolve(const ClothModel& model, const std::vector<Vec3>& st
     // (the pushes alone stretched a stiff pile's threads 2 to 4%, where the solver left 1%).
     // A method that leaves resting layers to this stage is pushed apart here every frame, and
     // there that kept an implicit pile from coming to rest (README, Self-collision).
-    if (solver_held_layers) gather_threads(model, state);
+    touch(model);
+    if (solver_held_layers) gather_threads(state);
     for (int pass = 0; pass < kContactPasses; ++pass) {
       if (pass > 0 && solver_held_layers) keep_lengths(state);
       for (const Contact& c : contacts_) push_apart(c, model, start, state);

@@ -119,9 +119,14 @@ class SelfCollision {
                   ClothState& state) const;
   bool remove_crossings(const ClothModel& model, const std::vector<Vec3>& start, double dt,
                         ClothState& state);
-  /// Lists the threads (structural springs) at the contacts' particles, each with the length
+  /// Sets crossing_ to the pairs that cross in x: only those with a triangle at a contact or
+  /// moved since the search where the search has shown that no other pair can cross.
+  void find_crossings(const ClothModel& model, const std::vector<Vec3>& x);
+  /// Marks the contacts' particles (touched_).
+  void touch(const ClothModel& model);
+  /// Lists the threads (structural springs) at the touched particles, each with the length
   /// the solver left it (state.x before the contacts move anything).
-  void gather_threads(const ClothModel& model, const ClothState& state);
+  void gather_threads(const ClothState& state);
   /// One Gauss–Seidel sweep over those threads back to their lengths, moving particles by
   /// mobility_ (a grounded or pinned end stays).
   void keep_lengths(ClothState& state) const;
@@ -150,10 +155,11 @@ class SelfCollision {
   std::vector<std::array<int32_t, 2>> threads_;  ///< the structural springs' particles
   std::vector<int32_t> touched_threads_;         ///< gather_threads: those at a contact
   std::vector<double> thread_lengths_;           ///< ... and their lengths after the solve
-  std::vector<uint8_t> touched_;                 ///< per particle: in a contact
+  std::vector<uint8_t> touched_;                 ///< per particle: in a contact (touch)
   HeldLayers held_;
   CrossingFinder crossing_finder_;
   std::vector<TrianglePair> crossing_;
+  std::vector<uint8_t> suspect_;     ///< per triangle: may cross (find_crossings)
   std::vector<int32_t> zone_;        ///< union–find parent per vertex (itself: a root)
   std::vector<uint8_t> zone_state_;  ///< 0 free, 1 in a rigid zone, 2 frozen
   std::vector<int32_t> zoned_;       ///< vertices in zones, this frame

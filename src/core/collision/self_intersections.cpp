@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <numeric>
 #include <utility>
 
 #include "crossings.h"
@@ -117,27 +118,36 @@ bool segment_crosses_triangle(const Vec3& p, const Vec3& q, const Vec3& a, const
 }
 
 void CrossingFinder::find(const std::vector<Triangle>& triangles,
-                          const std::vector<Vec3>& positions, std::vector<TrianglePair>& out) {
+                          const std::vector<Vec3>& positions, const std::vector<uint8_t>* suspect,
+                          std::vector<TrianglePair>& out) {
   out.clear();
-  // Boxes and planes of the triangles whose corners are all finite, shared out to the threads,
-  // then the list of them.
-  const int64_t count = static_cast<int64_t>(triangles.size());
-  boxes_.resize(triangles.size());
-  planes_.resize(triangles.size());
-  finite_.resize(triangles.size());
-#pragma omp parallel for schedule(static) if (worth_threads(count))
-  for (int64_t t = 0; t < count; ++t) {
-    const Vec3 &a = positions[triangles[t][0]], &b = positions[triangles[t][1]],
-               &c = positions[triangles[t][2]];
-    finite_[t] = a.allFinite() && b.allFinite() && c.allFinite();
-    if (!finite_[t]) continue;
-    boxes_[t] = {a.cwiseMin(b).cwiseMin(c), a.cwiseMax(b).cwiseMax(c)};
-    planes_[t] = CertifiedPlane::of(a, b, c);
+  // The triangles whose corners are all finite, suspects first, then their boxes and planes,
+  // shared out to the threads.
+  const int32_t count = static_cast<int32_t>(triangles.size());
+  auto finite = [&](int32_t t) {
+    return positions[triangles[t][0]].allFinite() && positions[triangles[t][1]].allFinite() &&
+           positions[triangles[t][2]].allFinite();
+  };
+  slot_.clear();
+  for (int32_t t = 0; t < count; ++t)
+    if ((!suspect || (*suspect)[t] != 0) && finite(t)) slot_.push_back(t);
+  const int32_t split = static_cast<int32_t>(slot_.size());
+  if (suspect)
+    for (int32_t t = 0; t < count; ++t)
+      if ((*suspect)[t] == 0 && finite(t)) slot_.push_back(t);
+  const int64_t kept = static_cast<int64_t>(slot_.size());
+  if (kept < 2 || split == 0) return;
+  boxes_.resize(slot_.size());
+  planes_.resize(slot_.size());
+#pragma omp parallel for schedule(static) if (worth_threads(kept))
+  for (int64_t k = 0; k < kept; ++k) {
+    const Triangle& tri = triangles[slot_[k]];
+    const Vec3 &a = positions[tri[0]], &b = positions[tri[1]], &c = positions[tri[2]];
+    boxes_[k] = {a.cwiseMin(b).cwiseMin(c), a.cwiseMax(b).cwiseMax(c)};
+    planes_[k] = CertifiedPlane::of(a, b, c);
   }
-  kept_.clear();
-  for (int64_t t = 0; t < count; ++t)
-    if (finite_[t]) kept_.push_back(static_cast<int32_t>(t));
-  if (kept_.size() < 2) return;
+  kept_.resize(slot_.size());
+  std::iota(kept_.begin(), kept_.end(), 0);
   grid_.build(boxes_, kept_);
 
   // Each pair in each cell they share, tested only in the one cell where the grid reports it.
@@ -149,13 +159,15 @@ void CrossingFinder::find(const std::vector<Triangle>& triangles,
     std::vector<TrianglePair>& mine = found_.mine();
 #pragma omp for schedule(static) nowait
     for (int64_t cell = 0; cell < cells; ++cell)
-      grid_.each_pair_in(cell, [&](int32_t s, int32_t t) {
+      grid_.each_pair_touching(cell, split, [&](int32_t j, int32_t k) {
+        const int32_t s = slot_[j], t = slot_[k];
         if (share_a_vertex(triangles[s], triangles[t])) return;
         const Vec3 corners_s[3] = {positions[triangles[s][0]], positions[triangles[s][1]],
                                    positions[triangles[s][2]]};
         const Vec3 corners_t[3] = {positions[triangles[t][0]], positions[triangles[t][1]],
                                    positions[triangles[t][2]]};
-        if (triangles_cross(corners_s, planes_[s], corners_t, planes_[t])) mine.push_back({s, t});
+        if (triangles_cross(corners_s, planes_[j], corners_t, planes_[k]))
+          mine.push_back({std::min(s, t), std::max(s, t)});
       });
   }
   found_.gather(out);
