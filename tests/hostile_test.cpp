@@ -373,7 +373,18 @@ TEST_F(Hostile, AClothTooFarFromTheOriginForItsEdgesIsBadInput) {
             "cloth.origin: places the cloth up to 1e+20 m from the origin"},
            {scene("skirt") + " --set 'cloth.transform.translate=[0,1e15,0]'",
             "cloth.transform: places the cloth up to 1e+15 m from the origin"},
-           {"far.json", "cloth.mesh (far.obj): has vertices up to 1e+13 m from the origin"}}) {
+           {"far.json", "cloth.mesh (far.obj): has vertices up to 1e+13 m from the origin"},
+           // A pin keyed to carry the cloth's corner that far, or turning it about a pivot
+           // that far out, ran on with strains of 1e23% and exited 0.
+           {scene("hang") +
+                R"( --set 'cloth.pins=[{"pin": "top-left", "motion": {"keys": [{"t": 0, )"
+                R"("translate": [0, 0, 0]}, {"t": 0.05, "translate": [1e20, 0, 0]}]}}]')",
+            "cloth.pins[0].motion: carries its particles up to 1e+20 m from the origin"},
+           {scene("hang") +
+                R"( --set 'cloth.pins=["top-left", {"pin": "top-right", "motion": {"pivot": )"
+                R"([0, 0, 5e14], "keys": [{"t": 0, "rotate": [0, 0, 0]}, {"t": 1, )"
+                R"("rotate": [0, 180, 0]}]}}]')",
+            "cloth.pins[1].motion: carries its particles up to 1e+15 m from the origin"}}) {
     const Result r = drape("run " + c.args);
     EXPECT_EQ(r.code, 2) << c.args << ": " << r.err;
     EXPECT_NE(r.err.find(c.words), std::string::npos) << c.args << ": " << r.err;
@@ -386,6 +397,12 @@ TEST_F(Hostile, AClothTooFarFromTheOriginForItsEdgesIsBadInput) {
                             " --set 'cloth.origin=[1e6,2,0]' --seconds 0.1 --stats stats.json");
   ASSERT_EQ(near.code, 0) << near.err;
   EXPECT_TRUE(read_json(path("stats.json")).at("finite").get<bool>());
+  // A pin carried a kilometre is a long way, but one doubles resolve: it runs.
+  const Result carried =
+      drape("run " + scene("hang") +
+            R"( --seconds 0.1 --set 'cloth.pins=[{"pin": "top-left", "motion": {"keys": [{"t": 0, )"
+            R"("translate": [0, 0, 0]}, {"t": 1, "translate": [1000, 0, 0]}]}}]')");
+  EXPECT_EQ(carried.code, 0) << carried.err;
 }
 
 // Pieces of a cloth, or of a body, far apart: the coarse grids over them (self-collision's
