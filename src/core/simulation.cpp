@@ -69,8 +69,9 @@ double shortest_spring(const ClothModel& m) {
 void check_pins_resolvable(const ClothDef& def, const ClothModel& m, double limit) {
   for (size_t k = 0; k < def.pins.size(); ++k) {
     const MotionDef& motion = def.pins[k].motion;
+    if (!motion.moves()) continue;
     const std::vector<int32_t> particles = pin_particles(def, m, k);
-    if (!motion.moves() || particles.empty()) continue;
+    if (particles.empty()) continue;
     Vec3 centre = Vec3::Zero();
     for (const int32_t i : particles)
       centre += m.rest_position[i] / static_cast<double>(particles.size());
