@@ -124,7 +124,7 @@ class Fast final : public Solver {
   // Cloth coming fast at a small still ball parts round it in a step this long (a sheet dropped
   // onto a ball of radius 10 cm at 10 m/s went through at frame 61): the frames where that can
   // happen take the substeps ColliderSet::substeps_for asks for (still balls only: the curtain's
-  // moving ball holds without), and frames at sharp features kStepsAtSharpFeatures; the system
+  // moving ball holds without), and frames at sharp features kFastStepsAtSharpFeatures; the system
   // built and factorised again for their h, and the scene's substeps after.
   void choose_substeps(const World& w) {
     int substeps = def_.substeps > 0 ? def_.substeps : 1;
@@ -132,7 +132,7 @@ class Fast final : public Solver {
       substeps = std::max(
           substeps, w.bodies->substeps_for(w.state.x, w.state.v, w.state.inv_mass, w.time,
                                            w.time + def_.dt, ColliderSet::Counted::still_round));
-    if (w.features) substeps = std::max(substeps, kStepsAtSharpFeatures);
+    if (w.features) substeps = std::max(substeps, kFastStepsAtSharpFeatures);
     if (substeps != substeps_) build(w, substeps);
   }
 

@@ -106,7 +106,7 @@ class Implicit final : public Solver {
     int steps = substeps_in(dt, frame_dt_, substeps_);
     if (w.bodies)  // a small body: substeps from its move relative to the cloth near it
       steps = std::max(steps, w.bodies->substeps_for(s.x, s.v, s.inv_mass, w.time, w.time + dt));
-    if (w.features) steps = std::max(steps, kStepsAtSharpFeatures);
+    if (w.features) steps = std::max(steps, kImplicitStepsAtSharpFeatures);
     const double h = dt / steps;
     const int32_t n = w.model.size();
     for (int k = 0; k < steps; ++k) {
