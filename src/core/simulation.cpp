@@ -409,11 +409,21 @@ bool Simulation::step() {
                       "state can supply (tolerance %.3g J)",
                       energy, energy - supplied, tolerance);
       // Torn by implicit's step: CG's settings do not mend it (the bench's jittered mesh tore
-      // as far with cg_tolerance 1e-8), shorter steps do (4 a frame held it).
+      // as far with cg_tolerance 1e-8), shorter steps do (4 a frame held it). Under the seed's
+      // drag per particle, which implicit takes after its solve, the light particles it holds
+      // back can tear the cloth at any number of steps (a mesh that slid off a sheet tore at 8
+      // a frame; README, Known traps): then less drag mends it too.
       const bool step_tore = torn > 0.0 && def_.solver.method == Method::implicit;
-      divergence_ = buf + method(step_tore ? "try more solver.substeps or a smaller solver.dt, "
-                                             "or the xpbd or fast method"
-                                           : nullptr);
+      const bool dragged = def_.forces.air_drag_for(def_.cloth.material.has_value()) > 0.0;
+      divergence_ =
+          buf + method(!step_tore ? nullptr
+                       : dragged
+                           ? "it takes forces.air_drag (the drag per particle) after its "
+                             "solve, and the light particles it holds back can pull the cloth "
+                             "apart: try the xpbd or fast method, less forces.air_drag, or more "
+                             "solver.substeps or a smaller solver.dt"
+                           : "try more solver.substeps or a smaller solver.dt, or the xpbd or "
+                             "fast method");
     }
   }
   if (diverged()) diverged_frame_ = frame_;
