@@ -65,8 +65,10 @@ double shortest_spring(const ClothModel& m) {
 // translations and its turn about its pivot reach: at most |pivot| + the farthest particle
 // from the pivot + the longest translation (the translation between two keys is a blend of
 // theirs, the turn keeps distances to the pivot). A pin moved 1e20 m ran on with strains of
-// 1e23% and exited 0. The cloth must stay within `limit` m of the origin (check_resolvable).
-void check_pins_resolvable(const ClothDef& def, const ClothModel& m, double limit) {
+// 1e23% and exited 0. The cloth must stay within `limit` m of the origin (check_resolvable),
+// which its shortest spring, `shortest` m at rest, sets.
+void check_pins_resolvable(const ClothDef& def, const ClothModel& m, double shortest,
+                           double limit) {
   for (size_t k = 0; k < def.pins.size(); ++k) {
     const MotionDef& motion = def.pins[k].motion;
     if (!motion.moves()) continue;
@@ -87,8 +89,7 @@ void check_pins_resolvable(const ClothDef& def, const ClothModel& m, double limi
                   "carries its particles up to %.3g m from the origin, where positions are "
                   "rounded in steps of %.3g m: too coarse for the cloth's shortest spring, %.3g "
                   "m at rest; keep the pinned particles within %.3g m of the origin",
-                  farthest, farthest * std::numeric_limits<double>::epsilon(), shortest_spring(m),
-                  limit);
+                  farthest, farthest * std::numeric_limits<double>::epsilon(), shortest, limit);
     throw InputError("cloth.pins[" + std::to_string(k) + "].motion", problem);
   }
 }
@@ -102,13 +103,14 @@ void check_pins_resolvable(const ClothDef& def, const ClothModel& m, double limi
 void check_resolvable(const ClothDef& def, const ClothModel& m) {
   constexpr double kStepsPerEdge = 0x1p10;
   constexpr double kEpsilon = std::numeric_limits<double>::epsilon();
-  auto resolvable = [&](const ClothModel& model) {
+  // `shortest`: the model's shortest_spring, measured once per model.
+  auto resolvable = [&](const ClothModel& model, double shortest) {
     return model.springs.empty() ||
-           shortest_spring(model) >=
-               kStepsPerEdge * kEpsilon * largest_coordinate(model.rest_position);
+           shortest >= kStepsPerEdge * kEpsilon * largest_coordinate(model.rest_position);
   };
-  if (resolvable(m)) {
-    check_pins_resolvable(def, m, shortest_spring(m) / (kStepsPerEdge * kEpsilon));
+  const double shortest = shortest_spring(m);
+  if (resolvable(m, shortest)) {
+    check_pins_resolvable(def, m, shortest, shortest / (kStepsPerEdge * kEpsilon));
     return;
   }
   // The cloth built where its placing (the grid's origin, the mesh's translation) does not put
@@ -118,8 +120,9 @@ void check_resolvable(const ClothDef& def, const ClothModel& m) {
   here.origin = Vec3::Zero();
   here.transform.translate = Vec3::Zero();
   const ClothModel unplaced = build_model(here);
-  const bool placed = resolvable(unplaced);
-  const double largest = largest_coordinate(m.rest_position), meant = shortest_spring(unplaced);
+  const double meant = shortest_spring(unplaced);
+  const bool placed = resolvable(unplaced, meant);
+  const double largest = largest_coordinate(m.rest_position);
   const std::string key = !placed    ? cloth_mesh_key(def)
                           : def.mesh ? "cloth.transform"
                                      : "cloth.origin";
