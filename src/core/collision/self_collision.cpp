@@ -94,6 +94,7 @@ void SelfCollision::prepare(const ClothModel& model, double thickness, double fr
   zone_state_.assign(model.size(), 0);
   zoned_.clear();
   contacts_.clear();
+  near_.clear();
   held_.pairs.clear();
 }
 
@@ -103,12 +104,12 @@ int SelfCollision::parts_for(double motion) const {
 }
 
 int64_t SelfCollision::bytes() const {
-  return heap_bytes(edges_, face_boxes_, edge_boxes_, kept_faces_, kept_edges_, contacts_, solved_,
-                    held_.pairs, contacted_, mobility_, crossing_, zone_, zone_state_, zoned_,
-                    boxed_, finite_, threads_, touched_threads_, thread_lengths_, touched_,
+  return heap_bytes(edges_, face_boxes_, edge_boxes_, kept_faces_, kept_edges_, contacts_, near_,
+                    solved_, held_.pairs, contacted_, mobility_, crossing_, zone_, zone_state_,
+                    zoned_, boxed_, finite_, threads_, touched_threads_, thread_lengths_, touched_,
                     suspect_) +
-         face_grid_.bytes() + edge_grid_.bytes() + found_.bytes() + patches_.bytes() +
-         crossing_finder_.bytes();
+         face_grid_.bytes() + edge_grid_.bytes() + found_.bytes() + found_near_.bytes() +
+         patches_.bytes() + crossing_finder_.bytes();
 }
 
 void SelfCollision::find_contacts(const ClothModel& model, const std::vector<Vec3>& start,
@@ -129,6 +130,7 @@ void SelfCollision::find_contacts(const ClothModel& model, const std::vector<Vec
     // pair would be left out as inside it, and no two of its triangles meet, so neither the
     // search nor the check for crossings has anything to find.
     contacts_.clear();
+    near_.clear();
     near_motion_ = 0.0;
     crossings_leave_contacts_ = true;
     return;
@@ -197,21 +199,31 @@ void SelfCollision::find_contacts(const ClothModel& model, const std::vector<Vec
     }
   }
 
-  // A vertex and a triangle are a contact when within reach at the end of the frame, or when
-  // the vertex changed sides of the triangle's plane while over its face.
+  // A vertex and a triangle are found when within reach at the end of the frame, or when the
+  // vertex changed sides of the triangle's plane while over its face. A pair found is a contact
+  // when its stencil has a direction there (layer_stencil); one whose nearest points lie on a
+  // boundary (a vertex beside a triangle's edge, two edges whose nearest points are an end)
+  // pushes nothing, and about two thirds of a pile's pairs are such: they go to near_, only to
+  // mark their particles for the check for crossings.
+  enum class Found { none, near, acts };
+  using enum Found;
+  auto acting = [&](int kind, const Vec3& p0, const Vec3& p1, const Vec3& p2, const Vec3& p3) {
+    const Vec3 p[4] = {p0, p1, p2, p3};
+    return layer_stencil(kind, p).valid ? acts : near;
+  };
   auto vertex_triangle = [&](int32_t p, int32_t t) {
     const Triangle& tri = triangles[t];
     if (tri[0] == p || tri[1] == p || tri[2] == p ||
         SmoothPatches::within_smooth(patches_.region_of_vertex(p), patches_.region_of_triangle(t)))
-      return false;
+      return none;
     const Vec3 &a = x[tri[0]], &b = x[tri[1]], &c = x[tri[2]];
     const TrianglePoint q = closest_on_triangle(x[p], a, b, c);
     const Vec3 d = x[p] - (q.wa * a + q.wb * b + q.wc * c);
-    if (d.squaredNorm() < reach * reach) return true;
-    if (!over_face(x[p], a, b, c, kFaceMargin).interior) return false;
+    if (d.squaredNorm() < reach * reach) return acting(0, x[p], a, b, c);
+    if (!over_face(x[p], a, b, c, kFaceMargin).interior) return none;
     const double side0 = start_side(p, tri, start, reach);
     const double side1 = (b - a).cross(c - a).dot(x[p] - a);
-    return side0 * side1 < 0.0;
+    return side0 * side1 < 0.0 ? acting(0, x[p], a, b, c) : none;
   };
   // Two edges likewise: within reach, or their nearest points' offset reversed.
   auto edge_edge = [&](int32_t e, int32_t f) {
@@ -219,11 +231,13 @@ void SelfCollision::find_contacts(const ClothModel& model, const std::vector<Vec
     const auto [k, l] = edges_[f];
     if (i == k || i == l || j == k || j == l ||
         SmoothPatches::within_smooth(patches_.region_of_edge(e), patches_.region_of_edge(f)))
-      return false;
+      return none;
     const SegmentPoints sp = closest_between_segments(x[i], x[j], x[k], x[l]);
     const Vec3 d = (1 - sp.s) * x[i] + sp.s * x[j] - (1 - sp.t) * x[k] - sp.t * x[l];
-    if (d.squaredNorm() < reach * reach) return true;
-    return sp.interior && d.dot(start_offset(edges_[e], edges_[f], start, reach)) < 0.0;
+    if (d.squaredNorm() < reach * reach ||
+        (sp.interior && d.dot(start_offset(edges_[e], edges_[f], start, reach)) < 0.0))
+      return acting(1, x[i], x[j], x[k], x[l]);
+    return none;
   };
 
   // How far particles i and j moved relative to each other, squared.
@@ -232,18 +246,25 @@ void SelfCollision::find_contacts(const ClothModel& model, const std::vector<Vec
   };
 
   contacts_.clear();
+  near_.clear();
   found_.clear();
-  double motion = 0.0;  // the contacts' largest moved_past
+  found_near_.clear();
+  double motion = 0.0;  // the pairs' largest moved_past
 #pragma omp parallel if (worth_threads(n)) reduction(max : motion)
   {
     std::vector<Contact>& mine = found_.mine();
+    std::vector<Contact>& mine_near = found_near_.mine();
+    auto keep = [&](Found found, const Contact& c) {
+      (found == acts ? mine : mine_near).push_back(c);
+    };
     // Vertex–triangle pairs cell by cell, each in the one cell the grid reports it in.
     const int64_t face_cells = face_grid_.cells();
 #pragma omp for schedule(dynamic, 64) nowait
     for (int64_t cell = 0; cell < face_cells; ++cell)
       face_grid_.each_pair_across(cell, triangle_count, [&](int32_t t, int32_t p) {
-        if (!vertex_triangle(p - triangle_count, t)) return;
-        mine.push_back({p - triangle_count, t, 0});
+        const Found found = vertex_triangle(p - triangle_count, t);
+        if (found == none) return;
+        keep(found, {p - triangle_count, t, 0});
         motion = std::max(motion, moved_past(p - triangle_count, triangles[t][0]));
       });
     // Edge pairs cell by cell, each pair in the one cell the grid reports it in.
@@ -251,12 +272,14 @@ void SelfCollision::find_contacts(const ClothModel& model, const std::vector<Vec
 #pragma omp for schedule(dynamic, 64) nowait
     for (int64_t cell = 0; cell < cells; ++cell)
       edge_grid_.each_pair_in(cell, [&](int32_t e, int32_t f) {
-        if (!edge_edge(e, f)) return;
-        mine.push_back({e, f, 1});
+        const Found found = edge_edge(e, f);
+        if (found == none) return;
+        keep(found, {e, f, 1});
         motion = std::max(motion, moved_past(edges_[e][0], edges_[f][0]));
       });
   }
   found_.gather(contacts_);
+  found_near_.gather(near_);
   near_motion_ = std::sqrt(motion);
   // The order the threads found them in varies; the order they are resolved in must not.
   std::sort(contacts_.begin(), contacts_.end(), [](const Contact& u, const Contact& w) {
@@ -347,10 +370,10 @@ void SelfCollision::find_crossings(const ClothModel& model, const std::vector<Ve
     crossing_finder_.find(model.triangles, x, crossing_);
     return;
   }
-  // Every crossing at the search left an edge–edge contact (crossings_leave_contacts_), whose
+  // Every crossing at the search left an edge–edge pair (crossings_leave_contacts_), whose
   // particles are touched_; a pair of triangles none of whose corners is touched or has moved
   // since is as it was then, and so crosses only where it crossed then: never. Only pairs with
-  // a triangle at a contact or moved can cross.
+  // a triangle at a pair found or moved can cross.
   const std::vector<Triangle>& triangles = model.triangles;
   suspect_.resize(triangles.size());
   auto suspect = [&](int32_t v) { return touched_[v] != 0 || x[v] != solved_[v]; };
@@ -465,11 +488,12 @@ bool SelfCollision::remove_crossings(const ClothModel& model, const std::vector<
 
 void SelfCollision::touch(const ClothModel& model) {
   touched_.assign(model.size(), 0);
-  for (const Contact& c : contacts_) {
-    int32_t index[4];
-    particles_of(c, model, index);
-    for (const int32_t v : index) touched_[v] = 1;
-  }
+  for (const std::vector<Contact>* pairs : {&contacts_, &near_})
+    for (const Contact& c : *pairs) {
+      int32_t index[4];
+      particles_of(c, model, index);
+      for (const int32_t v : index) touched_[v] = 1;
+    }
 }
 
 void SelfCollision::gather_threads(const ClothState& state) {
@@ -543,8 +567,10 @@ bool SelfCollision::resolve(const ClothModel& model, const std::vector<Vec3>& st
   zoned_.clear();
 
   find_contacts(model, start, state.x);
-  report_.contacts = static_cast<int64_t>(contacts_.size());
+  report_.contacts = static_cast<int64_t>(contacts_.size() + near_.size());
   bool changed = false;
+  const bool found = !contacts_.empty() || !near_.empty();
+  if (found) touch(model);
   if (!contacts_.empty()) {
     changed = true;
     ground(model, state, colliders);  // before any contact moves a particle off a collider
@@ -553,7 +579,6 @@ bool SelfCollision::resolve(const ClothModel& model, const std::vector<Vec3>& st
     // (the pushes alone stretched a stiff pile's threads 2 to 4%, where the solver left 1%).
     // A method that leaves resting layers to this stage is pushed apart here every frame, and
     // there that kept an implicit pile from coming to rest (README, Self-collision).
-    touch(model);
     if (solver_held_layers) gather_threads(state);
     for (int pass = 0; pass < kContactPasses; ++pass) {
       if (pass > 0 && solver_held_layers) keep_lengths(state);
@@ -567,8 +592,8 @@ bool SelfCollision::resolve(const ClothModel& model, const std::vector<Vec3>& st
     }
   }
   // The certified check for crossings, unless the search has shown there can be none: no
-  // contact, and so nothing moved since the search, which found every crossing's edge pair.
-  if (!contacts_.empty() || !crossings_leave_contacts_)
+  // pair found, and so nothing moved since the search, which found every crossing's edge pair.
+  if (found || !crossings_leave_contacts_)
     changed = remove_crossings(model, start, dt, state) || changed;
   if (!changed) return false;
 

@@ -122,7 +122,7 @@ class SelfCollision {
   /// Sets crossing_ to the pairs that cross in x: only those with a triangle at a contact or
   /// moved since the search where the search has shown that no other pair can cross.
   void find_crossings(const ClothModel& model, const std::vector<Vec3>& x);
-  /// Marks the contacts' particles (touched_).
+  /// Marks the particles of every pair found, contacts and near_ (touched_).
   void touch(const ClothModel& model);
   /// Lists the threads (structural springs) at the touched particles, each with the length
   /// the solver left it (state.x before the contacts move anything).
@@ -137,7 +137,8 @@ class SelfCollision {
   /// Set by find_contacts: every triangle's inradius is under the reach at the frame's end. An
   /// edge of one triangle through another's inside then passes within that inradius of the
   /// other's nearest edge (no point inside a triangle is farther from all its edges), a pair
-  /// sharing no vertex: a crossing leaves an edge–edge contact, and no contact means none.
+  /// sharing no vertex: a crossing leaves an edge–edge pair in the search (in contacts_ or
+  /// near_), and no pair found means none.
   /// Set too where the cloth is one smooth patch at the frame's end, which crosses nothing.
   bool crossings_leave_contacts_ = false;
   std::vector<std::array<int32_t, 2>> edges_;
@@ -147,8 +148,11 @@ class SelfCollision {
   SmoothPatches patches_;
   std::vector<int32_t> kept_faces_, kept_edges_;
   BoxGrid face_grid_, edge_grid_;
-  std::vector<Contact> contacts_;
-  ThreadLists<Contact> found_;    ///< each thread's contacts, gathered into contacts_
+  std::vector<Contact> contacts_;  ///< the pairs found whose stencil has a direction: they act
+  /// The pairs found within reach whose stencil has none there (nearest points on a boundary):
+  /// they push nothing, but a crossing's edge pair may be among them (touch).
+  std::vector<Contact> near_;
+  ThreadLists<Contact> found_, found_near_;  ///< each thread's, gathered into contacts_, near_
   std::vector<Vec3> solved_;      ///< the positions the solver left, for the velocity change
   std::vector<double> mobility_;  ///< per particle, the inverse mass contacts move it with
   std::vector<Vec3> contacted_;   ///< the positions the contacts left, for zones' momenta
