@@ -55,30 +55,35 @@ struct LayerStencil {
   bool valid = false;
 };
 
-inline LayerStencil layer_stencil(int kind, const Vec3 x[4]) {
+/// An edge–edge pair's stencil (kind 1 of layer_stencil) from its nearest points `sp`
+/// (closest_between_segments of x), for a caller that has them already.
+inline LayerStencil edge_stencil(const Vec3 x[4], const SegmentPoints& sp) {
   LayerStencil st;
-  if (kind == 0) {
-    const TrianglePoint q = over_face(x[0], x[1], x[2], x[3], kFaceMargin);
-    st.coef[1] = -q.wa, st.coef[2] = -q.wb, st.coef[3] = -q.wc;
-    // Pushed along the triangle's normal only, so contacts never squeeze the cloth in its own
-    // plane.
-    if (!q.interior) return st;
-    const Vec3 normal = (x[2] - x[1]).cross(x[3] - x[1]);
-    const double length = normal.norm();
-    if (!(length > 0.0)) return st;
-    st.normal = normal / length;
-  } else {
-    const SegmentPoints sp = closest_between_segments(x[0], x[1], x[2], x[3]);
-    st.coef[0] = 1 - sp.s, st.coef[1] = sp.s, st.coef[2] = -(1 - sp.t), st.coef[3] = -sp.t;
-    if (!sp.interior) return st;
-    // Along the normal of both edges (Bridson et al. 2002): the offset between the nearest
-    // points turns wildly as two edges nearly touch.
-    const Vec3 e = x[1] - x[0], f = x[3] - x[2];
-    const Vec3 normal = e.cross(f);
-    const double length = normal.norm();
-    if (!(length > kLeastSine * e.norm() * f.norm())) return st;
-    st.normal = normal / length;
-  }
+  st.coef[0] = 1 - sp.s, st.coef[1] = sp.s, st.coef[2] = -(1 - sp.t), st.coef[3] = -sp.t;
+  if (!sp.interior) return st;
+  // Along the normal of both edges (Bridson et al. 2002): the offset between the nearest
+  // points turns wildly as two edges nearly touch.
+  const Vec3 e = x[1] - x[0], f = x[3] - x[2];
+  const Vec3 normal = e.cross(f);
+  const double length = normal.norm();
+  if (!(length > kLeastSine * e.norm() * f.norm())) return st;
+  st.normal = normal / length;
+  st.valid = true;
+  return st;
+}
+
+inline LayerStencil layer_stencil(int kind, const Vec3 x[4]) {
+  if (kind != 0) return edge_stencil(x, closest_between_segments(x[0], x[1], x[2], x[3]));
+  LayerStencil st;
+  const TrianglePoint q = over_face(x[0], x[1], x[2], x[3], kFaceMargin);
+  st.coef[1] = -q.wa, st.coef[2] = -q.wb, st.coef[3] = -q.wc;
+  // Pushed along the triangle's normal only, so contacts never squeeze the cloth in its own
+  // plane.
+  if (!q.interior) return st;
+  const Vec3 normal = (x[2] - x[1]).cross(x[3] - x[1]);
+  const double length = normal.norm();
+  if (!(length > 0.0)) return st;
+  st.normal = normal / length;
   st.valid = true;
   return st;
 }

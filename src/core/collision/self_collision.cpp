@@ -207,10 +207,7 @@ void SelfCollision::find_contacts(const ClothModel& model, const std::vector<Vec
   // mark their particles for the check for crossings.
   enum class Found { none, near, acts };
   using enum Found;
-  auto acting = [&](int kind, const Vec3& p0, const Vec3& p1, const Vec3& p2, const Vec3& p3) {
-    const Vec3 p[4] = {p0, p1, p2, p3};
-    return layer_stencil(kind, p).valid ? acts : near;
-  };
+  auto acting = [](const LayerStencil& st) { return st.valid ? acts : near; };
   auto vertex_triangle = [&](int32_t p, int32_t t) {
     const Triangle& tri = triangles[t];
     if (tri[0] == p || tri[1] == p || tri[2] == p ||
@@ -219,11 +216,12 @@ void SelfCollision::find_contacts(const ClothModel& model, const std::vector<Vec
     const Vec3 &a = x[tri[0]], &b = x[tri[1]], &c = x[tri[2]];
     const TrianglePoint q = closest_on_triangle(x[p], a, b, c);
     const Vec3 d = x[p] - (q.wa * a + q.wb * b + q.wc * c);
-    if (d.squaredNorm() < reach * reach) return acting(0, x[p], a, b, c);
+    const Vec3 corners[4] = {x[p], a, b, c};
+    if (d.squaredNorm() < reach * reach) return acting(layer_stencil(0, corners));
     if (!over_face(x[p], a, b, c, kFaceMargin).interior) return none;
     const double side0 = start_side(p, tri, start, reach);
     const double side1 = (b - a).cross(c - a).dot(x[p] - a);
-    return side0 * side1 < 0.0 ? acting(0, x[p], a, b, c) : none;
+    return side0 * side1 < 0.0 ? acting(layer_stencil(0, corners)) : none;
   };
   // Two edges likewise: within reach, or their nearest points' offset reversed.
   auto edge_edge = [&](int32_t e, int32_t f) {
@@ -235,8 +233,10 @@ void SelfCollision::find_contacts(const ClothModel& model, const std::vector<Vec
     const SegmentPoints sp = closest_between_segments(x[i], x[j], x[k], x[l]);
     const Vec3 d = (1 - sp.s) * x[i] + sp.s * x[j] - (1 - sp.t) * x[k] - sp.t * x[l];
     if (d.squaredNorm() < reach * reach ||
-        (sp.interior && d.dot(start_offset(edges_[e], edges_[f], start, reach)) < 0.0))
-      return acting(1, x[i], x[j], x[k], x[l]);
+        (sp.interior && d.dot(start_offset(edges_[e], edges_[f], start, reach)) < 0.0)) {
+      const Vec3 ends[4] = {x[i], x[j], x[k], x[l]};
+      return acting(edge_stencil(ends, sp));  // the nearest points just found
+    }
     return none;
   };
 
