@@ -318,6 +318,44 @@ TEST(Motion, SubstepsKeepABodysMoveRelativeToTheClothNearItWithinASixteenthOfIts
   EXPECT_EQ(far.substeps_for(x, v, inv_mass, 0.0, dt), ColliderSet::kMaxSubsteps);
   far.pose(0.0, dt);
   EXPECT_EQ(far.contact().size(), size_t{ColliderSet::kMaxSweep});
+  EXPECT_EQ(far.outrun({x[0], x[0], x[1]}, {v[0], v[0], v[1]}, {{0, 1, 2}}, dt).collider, 0)
+      << "its poses jumped the cloth";
+}
+
+// A sweep whose poses lie farther apart than a pose can push a particle ahead (half the body's
+// thickness across plus the contact thickness: a ball's radius + thickness) may have jumped the
+// cloth: it is reported when a particle lies in the box its poses span, and only then.
+TEST(Motion, ASweepWhosePosesJumpedIsReportedWhereClothLiesInItsPath) {
+  ColliderDef def;
+  def.radius = 0.1;
+  def.thickness = 0.01;
+  def.motion.keys = {{0.0, Vec3::Zero(), Vec3::Zero()}, {1.0, Vec3(40.0, 0.0, 0.0), Vec3::Zero()}};
+  ColliderSet set({def}, 0.0);
+  // A cloth of one triangle, 2 cm across, about p.
+  const std::vector<Triangle> cloth = {{0, 1, 2}};
+  auto at = [](const Vec3& p) {
+    return std::vector<Vec3>{p, p + Vec3(0.02, 0.0, 0.0), p + Vec3(0.0, 0.02, 0.0)};
+  };
+  const std::vector<Vec3> still(3, Vec3::Zero()), rising(3, Vec3(0.0, 3.0, 0.0));
+  // 32 poses of 0.11 m cover 3.52 m: 3.2 m in a substep is swept whole.
+  set.pose(0.0, 0.08);
+  EXPECT_EQ(set.outrun(at(Vec3(2.0, 0.0, 0.0)), still, cloth, 0.1).collider, -1);
+  set.settle(0.08);
+  set.pose(0.08, 0.18);  // from x = 3.2 to 7.2 m: 4 m
+  const ColliderSet::Outrun out = set.outrun(at(Vec3(5.0, 0.0, 0.0)), still, cloth, 0.1);
+  EXPECT_EQ(out.collider, 0);
+  EXPECT_NEAR(out.travel, 4.0, 1e-9);
+  EXPECT_NEAR(out.covered, 32 * 0.11, 1e-12);
+  // The box spans its poses' centres grown by radius, thickness and a pose's step (0.235 m).
+  EXPECT_EQ(set.outrun(at(Vec3(5.0, 0.5, 0.0)), still, cloth, 0.1).collider, -1)
+      << "0.5 m beside its path";
+  EXPECT_EQ(set.outrun(at(Vec3(5.0, 0.5, 0.0)), rising, cloth, 0.1).collider, 0)
+      << "it came from within 0.3 m of the path this frame";
+  EXPECT_EQ(set.outrun(at(Vec3(2.0, 0.0, 0.0)), still, cloth, 0.1).collider, -1)
+      << "behind where the substep's sweep began";
+  set.settle(0.18);
+  EXPECT_EQ(set.outrun(at(Vec3(5.0, 0.0, 0.0)), still, cloth, 0.1).collider, -1)
+      << "settle() starts the next frame";
 }
 
 // The viewer's Shift-drag: the hand carries a collider from where it is to the new offset over
@@ -349,6 +387,32 @@ TEST(Motion, TheHandCarriesAColliderOverTheNextFrameAtTheHandsVelocity) {
   EXPECT_TRUE(set.now().front().center.isApprox(Vec3(0.15, 0.1, 0.0), 1e-12));
   set.settle(1.3);
   EXPECT_TRUE(set.now().front().center.isApprox(Vec3(0.0, 0.4, 0.0), 1e-12));
+}
+
+// A fling farther than one substep's sweep covers (32 poses of half the ball's radius, 1.6 m)
+// is carried that far a frame, each frame's settle starting the next leg, until the ball is
+// where the hand put it: its poses never jump. Placing it with no time (a panel change) is
+// at once.
+TEST(Motion, TheHandCarriesAFlungColliderAtMostOneSweepAFrame) {
+  ColliderDef ball;
+  ball.radius = 0.1;
+  ColliderSet set({ball}, 1.0);
+  set.hand(0, Vec3(5.0, 0.0, 0.0), 1.0, 1.1);
+  EXPECT_TRUE(set.hand_offset(0).isApprox(Vec3(5.0, 0.0, 0.0))) << "where the hand put it";
+  const std::vector<Vec3> x(3, Vec3(2.5, 0.0, 0.0)), v(3, Vec3::Zero());
+  for (int frame = 1; frame <= 4; ++frame) {
+    const double t0 = 1.0 + 0.1 * (frame - 1);
+    set.pose(t0, t0 + 0.1);
+    EXPECT_EQ(set.outrun(x, v, {{0, 1, 2}}, 0.1).collider, -1);
+    set.settle(t0 + 0.1);
+    EXPECT_NEAR(set.now().front().center.x(), std::min(1.6 * frame, 5.0), 1e-12);
+  }
+  set.pose(1.4, 1.5);
+  EXPECT_TRUE(set.contact().front().surface_velocity(Vec3::Zero()).isZero()) << "arrived";
+  ColliderSet placed({ball}, 1.0);
+  placed.hand(0, Vec3(5.0, 0.0, 0.0), 1.0, 1.0);
+  placed.settle(1.0);
+  EXPECT_TRUE(placed.now().front().center.isApprox(Vec3(5.0, 0.0, 0.0)));
 }
 
 // ---- Scene keys -----------------------------------------------------------------------------
@@ -675,9 +739,8 @@ TEST_P(EveryMethod, AFastBallPushesTheCurtainAsideAndNeverTunnelsThroughIt) {
   SceneDef def = testing_support::with(testing_support::shipped("curtain"), GetParam());
   def.duration = 1.0;
   {
-    SceneDef ghost = def;
-    ghost.colliders.front().thickness = 0.0;
-    ghost.colliders.front().radius = 1e-6;  // a speck the cloth does not feel
+    SceneDef ghost = def;  // a ball the cloth does not feel: none
+    ghost.colliders.clear();
     Simulation sim(ghost);
     while (sim.time() < 0.8) ASSERT_TRUE(sim.step()) << sim.divergence();
     EXPECT_GT(ball_against_curtain(def, sim).crossings, 0) << "the check sees no tunnelling";
@@ -689,6 +752,33 @@ TEST_P(EveryMethod, AFastBallPushesTheCurtainAsideAndNeverTunnelsThroughIt) {
     ASSERT_EQ(b.crossings, 0) << "the ball went through the curtain by frame " << f;
     ASSERT_LT(b.inside, 1e-3) << "a particle inside the ball at frame " << f;
   }
+}
+
+// A thin plate flung through the shipped curtain faster than its sweep's poses can push cloth
+// ahead (2 m in 0.5 ms, at `fast`'s one substep a frame: 32 poses 6 cm apart, where one pushes
+// a particle the pose before left at its face ahead only up to 1.5 cm, half its 1 cm across
+// plus its thickness): the run stops at that frame with an error naming the collider, rather
+// than let it pass the cloth without a word (without the check the plate ends 1 m beyond the
+// curtain, the cloth in its footprint within 1.3 cm of where it hung). The same plate flung beside
+// the curtain runs on.
+TEST(Motion, APlateOutrunningItsSweepThroughTheCurtainStopsTheRunNamingIt) {
+  SceneDef def = testing_support::shipped("curtain");
+  def.solver.method = Method::fast;
+  def.duration = 0.6;
+  ColliderDef& plate = def.colliders.front();
+  plate.type = ColliderType::box;
+  plate.half_extents = Vec3(0.3, 0.3, 0.005);
+  plate.motion.keys.back().t = 0.5005;
+  {
+    Simulation sim(def);
+    while (sim.step()) ASSERT_LT(sim.frame(), frame_count(def)) << "it ran through";
+    EXPECT_EQ(sim.diverged_frame(), 31) << sim.divergence();
+    EXPECT_NE(sim.divergence().find("colliders[0] moved 2 m in one substep"), std::string::npos)
+        << sim.divergence();
+  }
+  plate.center.x() += 3.0;
+  Simulation beside(def);
+  for (int64_t f = 0; f < frame_count(def); ++f) ASSERT_TRUE(beside.step()) << beside.divergence();
 }
 
 // Cloth moving fast at a small body that stands still: the seed's sphere scene without air,

@@ -350,6 +350,26 @@ bool Simulation::step() {
   stopped_ = world.cut_short;
   if (stopped_) return true;  // part of a frame: not counted, and its energy is not watched
   ++frame_;
+  // A sweep that needed more poses than it may take, with cloth in its path: the body may have
+  // jumped the cloth, which the promise that nothing tunnels forbids. Said, not passed over.
+  if (colliders_->moves()) {
+    const ColliderSet::Outrun out =
+        colliders_->outrun(state_.x, state_.v, model_.triangles, def_.solver.dt);
+    if (out.collider >= 0) {
+      char buf[400];
+      std::snprintf(buf, sizeof buf,
+                    "colliders[%d] moved %.3g m in one substep, farther than its sweep's %d "
+                    "poses cover (%.3g m), with cloth in its path: it may have passed through "
+                    "the cloth; slow its motion, or take %s",
+                    out.collider, out.travel, ColliderSet::kMaxSweep, out.covered,
+                    def_.solver.method == Method::automatic
+                        ? "a smaller solver.dt"
+                        : "more solver.substeps or a smaller solver.dt");
+      divergence_ = buf;
+      diverged_frame_ = frame_;
+      return false;
+    }
+  }
   // A moving collider does work on the cloth that the watch below cannot count: while one
   // moves, its budget starts again from every frame's state (as while the hand holds a
   // particle), so only a blow-up within one frame is caught then.

@@ -35,10 +35,17 @@ ColliderSet::ColliderSet(const std::vector<ColliderDef>& defs, double t) : defs_
     if (c.type == ColliderType::box) across = c.half_extents.minCoeff();
     if (c.type == ColliderType::mesh) across = 0.5 * c.bound_radius;
     size_.push_back(std::max(0.5 * across, c.thickness));
+    // A pose pushes a particle it has just overtaken out ahead of it while the particle lies
+    // less deep than the middle of it: the step from the pose before may be at most half its
+    // thickness across plus the contact thickness (the particle's gap in front of it).
+    most_step_.push_back(across + c.thickness);
   }
   now_ = rest_;
   contact_ = rest_;
   settled_.assign(rest_.size(), Pose{});
+  outran_.assign(rest_.size(), 0.0);
+  outran_lo_.assign(rest_.size(), Vec3::Zero());
+  outran_hi_.assign(rest_.size(), Vec3::Zero());
   if (moves_) contact_.reserve(rest_.size() * kMaxSweep);
   settle(t);
 }
@@ -76,24 +83,39 @@ void ColliderSet::hand(size_t k, const Vec3& offset, double t0, double t1) {
   if (hand_to_.empty()) {
     hand_from_.assign(rest_.size(), Vec3::Zero());
     hand_to_.assign(rest_.size(), Vec3::Zero());
+    hand_goal_.assign(rest_.size(), Vec3::Zero());
     held_.assign(rest_.size(), 0);
     contact_.reserve(rest_.size() * kMaxSweep);
     moves_ = true;
   }
-  // Each one starts from where it is now: the last hand's move has been completed or is cut
-  // short where it stands at t0.
+  hand_goal_[k] = offset;
+  held_[k] = 1;
+  hand_leg(t0, t1);
+}
+
+void ColliderSet::hand_leg(double t0, double t1) {
+  // Each one starts from where it is now: the last leg has been completed or is cut short
+  // where it stands at t0.
   const double along = hand_along(t0);
   for (size_t j = 0; j < rest_.size(); ++j) {
     hand_from_[j] += along * (hand_to_[j] - hand_from_[j]);
-    hand_to_[j] = hand_from_[j];
+    const Vec3 move = hand_goal_[j] - hand_from_[j];
+    // A leg with time to sweep goes at most as far as one substep's sweep covers (every method
+    // takes at least one a frame), so that its poses never jump; the rest follows in the next
+    // legs. One without time (a panel change putting it back) is a placement.
+    const double most = kMaxSweep * size_[j], length = move.norm();
+    hand_to_[j] = t1 > t0 && length > most ? hand_from_[j] + move * (most / length) : hand_goal_[j];
   }
-  hand_to_[k] = offset;
-  held_[k] = 1;
   hand_t0_ = t0;
   hand_t1_ = t1;
 }
 
 bool ColliderSet::settle(double t) {
+  // A frame of the hand's leg has passed, and it goes short of where the hand put a collider:
+  // the next leg starts from where it is.
+  if (!hand_to_.empty() && t > hand_t0_ && hand_to_ != hand_goal_)
+    hand_leg(t, t + (hand_t1_ - hand_t0_));
+  std::fill(outran_.begin(), outran_.end(), 0.0);
   bool moved = false;
   for (size_t k = 0; k < rest_.size(); ++k) {
     if (!moving(k)) continue;
@@ -149,19 +171,63 @@ void ColliderSet::pose(double t0, double t1) {
       continue;
     }
     const Pose start = pose_of(k, t0), end = pose_of(k, t1);
-    const int pieces = ceil_count(travel(k, t0, t1) / size_[k], 1, kMaxSweep);
+    const double moved = travel(k, t0, t1);
+    const int pieces = ceil_count(moved / size_[k], 1, kMaxSweep);
+    const size_t first = contact_.size();
     for (int j = 1; j <= pieces; ++j) {
       const double t = j == pieces ? t1 : t0 + (t1 - t0) * j / pieces;
       contact_.push_back(posed(k, j == pieces ? end : pose_of(k, t), start, t - t0));
       contact_.back().move_time = t - t0;
     }
     now_[k] = contact_.back();
+    if (moved > kMaxSweep * most_step_[k]) note_outrun(k, start, &contact_[first], pieces, moved);
   }
 }
 
+void ColliderSet::note_outrun(size_t k, const Pose& start, const Collider* poses, int pieces,
+                              double moved) {
+  // The box of its bounding sphere at the start and at each pose, grown by the step between
+  // two poses, which its path between them strays by less than.
+  const Collider& c = rest_[k];
+  const Vec3 grow = Vec3::Constant(c.bound_radius + c.thickness + moved / pieces);
+  Vec3 lo = start.apply(c.bound_center), hi = lo;
+  for (int j = 0; j < pieces; ++j) {
+    lo = lo.cwiseMin(poses[j].bound_center);
+    hi = hi.cwiseMax(poses[j].bound_center);
+  }
+  lo -= grow;
+  hi += grow;
+  if (outran_[k] > 0.0) {
+    lo = lo.cwiseMin(outran_lo_[k]);
+    hi = hi.cwiseMax(outran_hi_[k]);
+  }
+  outran_[k] = std::max(outran_[k], moved);
+  outran_lo_[k] = lo;
+  outran_hi_[k] = hi;
+}
+
+ColliderSet::Outrun ColliderSet::outrun(const std::vector<Vec3>& x, const std::vector<Vec3>& v,
+                                        const std::vector<Triangle>& triangles, double dt) const {
+  for (size_t k = 0; k < outran_.size(); ++k) {
+    if (outran_[k] == 0.0) continue;
+    for (const Triangle& t : triangles) {
+      Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
+      for (const int32_t i : t) {
+        const Vec3 reach = Vec3::Constant(v[i].norm() * dt);
+        lo = lo.cwiseMin(x[i] - reach);
+        hi = hi.cwiseMax(x[i] + reach);
+      }
+      if ((lo.array() <= outran_hi_[k].array()).all() &&
+          (hi.array() >= outran_lo_[k].array()).all())
+        return {static_cast<int>(k), outran_[k], kMaxSweep * most_step_[k]};
+    }
+  }
+  return {};
+}
+
 int64_t ColliderSet::bytes() const {
-  return heap_bytes(defs_, rest_, reference_, size_, now_, contact_, settled_, hand_from_, hand_to_,
-                    held_);
+  return heap_bytes(defs_, rest_, reference_, size_, most_step_, now_, contact_, settled_, outran_,
+                    outran_lo_, outran_hi_, hand_from_, hand_to_, hand_goal_, held_);
 }
 
 }  // namespace drape
