@@ -272,7 +272,8 @@ TEST(Motion, AColliderIsPosedAtEachSubstepAndItsSurfaceVelocityIsTheMotions) {
 // A method stepping a frame at once takes substeps so that a moving collider, or a still ball,
 // moves relative to the cloth near it by at most a sixteenth of its radius in each: its own
 // travel plus the fastest move of a particle that can reach it this frame (a pinned one, or one
-// too far away to, does not count; a still box does not count at all).
+// too far away to, does not count; a still box does not count at all; nor does a body no free
+// particle can reach this frame).
 TEST(Motion, SubstepsKeepABodysMoveRelativeToTheClothNearItWithinASixteenthOfItsRadius) {
   ColliderDef def;
   def.radius = 0.16;
@@ -282,10 +283,12 @@ TEST(Motion, SubstepsKeepABodysMoveRelativeToTheClothNearItWithinASixteenthOfIts
   const double dt = 1.0 / 60.0;
   std::vector<Vec3> x = {Vec3(10.0, 0.0, 0.0)}, v = {Vec3::Zero()};
   std::vector<double> inv_mass = {1.0};
+  EXPECT_EQ(set.substeps_for(x, v, inv_mass, 0.0, dt), 1) << "the cloth 10 m away: out of reach";
+  x.front() = Vec3(0.2, 0.0, 0.0);  // 2 cm beyond its thickness, still
   // 3 m/s: 5 cm a frame, 5 of the radius's sixteenths (1 cm).
   EXPECT_EQ(set.substeps_for(x, v, inv_mass, 0.0, dt), 5);
   EXPECT_EQ(set.substeps_for(x, v, inv_mass, 0.0, dt, ColliderSet::Counted::still_round), 1);
-  // A particle 4 cm beyond the surface coming at 3.6 m/s: 5 + 6 cm, 11 sixteenths.
+  // Another particle 4 cm beyond the surface coming at 3.6 m/s: 5 + 6 cm, 11 sixteenths.
   x.emplace_back(0.2, 0.0, 0.0);
   v.emplace_back(-3.6, 0.0, 0.0);
   inv_mass.push_back(1.0);

@@ -151,13 +151,19 @@ int ColliderSet::substeps_for(const std::vector<Vec3>& x, const std::vector<Vec3
         rest_[k].type == ColliderType::sphere || rest_[k].type == ColliderType::capsule;
     if (moving(k) ? counted == Counted::still_round : !round) continue;
     const double own = moving(k) ? travel(k, t0, t1) : 0.0;
+    // Only a body that a free particle can reach this frame counts (a ball carried far from
+    // the cloth took 64 substeps a frame for nothing).
     double fastest = 0.0;
+    bool reached = false;
     for (size_t i = 0; i < x.size(); ++i) {
       if (inv_mass[i] == 0.0) continue;
       const double move = v[i].norm() * dt;
-      if (move > fastest && !clear_of(now_[k], x[i], move + own)) fastest = move;
+      if ((move > fastest || !reached) && !clear_of(now_[k], x[i], move + own)) {
+        reached = true;
+        fastest = std::max(fastest, move);
+      }
     }
-    worst = std::max(worst, (own + fastest) / (size_[k] / kSubstepsPerPose));
+    if (reached) worst = std::max(worst, (own + fastest) / (size_[k] / kSubstepsPerPose));
   }
   return ceil_count(worst * (1.0 - 1e-9), 1, kMaxSubsteps);
 }
