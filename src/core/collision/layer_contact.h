@@ -72,10 +72,10 @@ inline LayerStencil edge_stencil(const Vec3 x[4], const SegmentPoints& sp) {
   return st;
 }
 
-inline LayerStencil layer_stencil(int kind, const Vec3 x[4]) {
-  if (kind != 0) return edge_stencil(x, closest_between_segments(x[0], x[1], x[2], x[3]));
+/// A vertex–triangle pair's stencil (kind 0 of layer_stencil) from where the vertex lies over
+/// the face, `q` (over_face of x with kFaceMargin), for a caller that has it already.
+inline LayerStencil face_stencil(const Vec3 x[4], const TrianglePoint& q) {
   LayerStencil st;
-  const TrianglePoint q = over_face(x[0], x[1], x[2], x[3], kFaceMargin);
   st.coef[1] = -q.wa, st.coef[2] = -q.wb, st.coef[3] = -q.wc;
   // Pushed along the triangle's normal only, so contacts never squeeze the cloth in its own
   // plane.
@@ -86,6 +86,11 @@ inline LayerStencil layer_stencil(int kind, const Vec3 x[4]) {
   st.normal = normal / length;
   st.valid = true;
   return st;
+}
+
+inline LayerStencil layer_stencil(int kind, const Vec3 x[4]) {
+  if (kind != 0) return edge_stencil(x, closest_between_segments(x[0], x[1], x[2], x[3]));
+  return face_stencil(x, over_face(x[0], x[1], x[2], x[3], kFaceMargin));
 }
 
 /// The pairs the self-collision stage left touching at the end of its last collision step,

@@ -218,10 +218,11 @@ void SelfCollision::find_contacts(const ClothModel& model, const std::vector<Vec
     const Vec3 d = x[p] - (q.wa * a + q.wb * b + q.wc * c);
     const Vec3 corners[4] = {x[p], a, b, c};
     if (d.squaredNorm() < reach * reach) return acting(layer_stencil(0, corners));
-    if (!over_face(x[p], a, b, c, kFaceMargin).interior) return none;
+    const TrianglePoint over = over_face(x[p], a, b, c, kFaceMargin);
+    if (!over.interior) return none;
     const double side0 = start_side(p, tri, start, reach);
     const double side1 = (b - a).cross(c - a).dot(x[p] - a);
-    return side0 * side1 < 0.0 ? acting(layer_stencil(0, corners)) : none;
+    return side0 * side1 < 0.0 ? acting(face_stencil(corners, over)) : none;
   };
   // Two edges likewise: within reach, or their nearest points' offset reversed.
   auto edge_edge = [&](int32_t e, int32_t f) {
