@@ -269,6 +269,47 @@ TEST(Motion, AColliderIsPosedAtEachSubstepAndItsSurfaceVelocityIsTheMotions) {
   EXPECT_EQ(set.contact().size(), 10u);
 }
 
+// A body turning about a far pivot sweeps an arc, longer than the chord between where it starts
+// and ends: its travel is at least the arc, and its sweep's poses lie close enough that no point
+// of its surface moves farther than a pose's step (half its thickness across) from one to the next.
+TEST(Motion, ABodyTurningAboutAFarPivotIsSweptAlongItsArc) {
+  const double degrees = 170.0, turn = degrees * std::numbers::pi / 180.0;
+  ColliderDef ball;
+  ball.radius = 0.1;
+  ball.motion.keys = {{0.0, Vec3::Zero(), Vec3::Zero()}, {1.0, Vec3::Zero(), Vec3(0, 0, degrees)}};
+  ball.motion.has_pivot = true;
+  ball.motion.pivot = Vec3(1.0, 0.0, 0.0);
+  // Its centre's arc is 170° of a circle of 1 m: 2.97 m, where the chord is 1.99.
+  EXPECT_NEAR(ColliderSet({ball}, 0.0).travel(0, 0.0, 1.0), turn, 1e-9);
+  ColliderDef box;
+  box.type = ColliderType::box;
+  box.half_extents = Vec3::Constant(0.5);
+  box.motion = ball.motion;
+  box.motion.pivot = Vec3(1.5, 0.0, 0.0);
+  ColliderSet set({box}, 0.0);
+  const double step = 0.25;  // half its smallest extent
+  set.pose(0.0, 1.0);
+  const std::vector<Collider>& poses = set.contact();
+  ASSERT_GT(poses.size(), 1u);
+  ASSERT_LT(poses.size(), size_t{ColliderSet::kMaxSweep});  // not cut short
+  double farthest = 0.0;  // a corner's largest move between two poses in a row
+  Collider before = make_collider(box);
+  for (const Collider& pose : poses) {
+    for (int corner = 0; corner < 8; ++corner) {
+      const Vec3 local((corner & 1 ? 0.5 : -0.5), (corner & 2 ? 0.5 : -0.5),
+                       (corner & 4 ? 0.5 : -0.5));
+      const Vec3 a = before.center + before.rotation * local,
+                 b = pose.center + pose.rotation * local;
+      farthest = std::max(farthest, (b - a).norm());
+    }
+    before = pose;
+  }
+  EXPECT_LE(farthest, step * (1.0 + 1e-9)) << poses.size() << " poses";
+  // Keyed a vast distance, it is reported as moving that far, not infinitely.
+  ball.motion.keys.back().translate = Vec3(1e300, 0.0, 0.0);
+  EXPECT_TRUE(std::isfinite(ColliderSet({ball}, 0.0).travel(0, 0.0, 1.0)));
+}
+
 // A method stepping a frame at once takes substeps so that a moving collider, or a still ball,
 // moves relative to the cloth near it by at most a sixteenth of its radius in each: its own
 // travel plus the fastest move of a particle that can reach it this frame (a pinned one, or one

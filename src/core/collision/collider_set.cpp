@@ -131,14 +131,21 @@ bool ColliderSet::settle(double t) {
 double ColliderSet::travel(size_t k, double t0, double t1) const {
   if (!moving(k)) return 0.0;
   const Pose start = pose_of(k, t0), end = pose_of(k, t1);
-  // Its bounding sphere's centre's move, plus the turn times the radius (a sphere turning
-  // about its own centre keeps its surface).
-  const Vec3 centre = rest_[k].bound_center;
-  double travel = (end.apply(centre) - start.apply(centre)).norm();
-  if (rest_[k].type != ColliderType::sphere && std::isfinite(rest_[k].bound_radius))
-    travel += Eigen::AngleAxisd(end.rotation * start.rotation.transpose()).angle() *
-              rest_[k].bound_radius;
-  return travel;
+  // A pose maps x to R·(x − pivot) + pivot + T (motion.h), T the keyed translation and the
+  // hand's. Between two poses T moves in a straight line and R turns by θ about the pivot, so a
+  // point at distance d from the pivot moves at most |ΔT| + θ·d: the bounding sphere's centre,
+  // plus θ times the radius for any shape but a sphere (a sphere turning about its own centre
+  // keeps its surface). The chord between the centre's two places, which this once was,
+  // falls short of its arc about a far pivot (by 36% for a half turn). Stable norms: a body
+  // keyed a vast distance is reported with its distance, not as infinitely far.
+  const MotionDef& motion = defs_[k].motion;
+  const Vec3 pivot = motion.has_pivot ? motion.pivot : reference_[k];
+  auto keyed = [&](const Pose& p) { return Vec3(p.translation - pivot + p.rotation * pivot); };
+  const double turn = Eigen::AngleAxisd(end.rotation * start.rotation.transpose()).angle();
+  const Collider& c = rest_[k];
+  double reach = (c.bound_center - pivot).stableNorm();
+  if (c.type != ColliderType::sphere && std::isfinite(c.bound_radius)) reach += c.bound_radius;
+  return (keyed(end) - keyed(start)).stableNorm() + turn * reach;
 }
 
 int ColliderSet::substeps_for(const std::vector<Vec3>& x, const std::vector<Vec3>& v,
