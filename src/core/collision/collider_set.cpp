@@ -129,8 +129,10 @@ bool ColliderSet::settle(double t) {
 }
 
 double ColliderSet::travel(size_t k, double t0, double t1) const {
-  if (!moving(k)) return 0.0;
-  const Pose start = pose_of(k, t0), end = pose_of(k, t1);
+  return moving(k) ? travel(k, pose_of(k, t0), pose_of(k, t1)) : 0.0;
+}
+
+double ColliderSet::travel(size_t k, const Pose& start, const Pose& end) const {
   // A pose maps x to R·(x − pivot) + pivot + T (motion.h), T the keyed translation and the
   // hand's. Between two poses T moves in a straight line and R turns by θ about the pivot, so a
   // point at distance d from the pivot moves at most |ΔT| + θ·d: the bounding sphere's centre,
@@ -184,7 +186,7 @@ void ColliderSet::pose(double t0, double t1) {
       continue;
     }
     const Pose start = pose_of(k, t0), end = pose_of(k, t1);
-    const double moved = travel(k, t0, t1);
+    const double moved = travel(k, start, end);
     const int pieces = ceil_count(moved / size_[k], 1, kMaxSweep);
     const size_t first = contact_.size();
     for (int j = 1; j <= pieces; ++j) {

@@ -97,6 +97,8 @@ class ColliderSet {
   /// Records that collider k's sweep over a substep, from `start` through `poses` (its pieces'
   /// colliders), moved `moved` m, farther than its poses cover.
   void note_outrun(size_t k, const Pose& start, const Collider* poses, int pieces, double moved);
+  /// travel() between two poses of collider k already found.
+  double travel(size_t k, const Pose& start, const Pose& end) const;
 
   std::vector<ColliderDef> defs_;  ///< their motions (meshes shared with the rest colliders)
   std::vector<Collider> rest_;     ///< as defined, unmoved
