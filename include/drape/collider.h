@@ -185,26 +185,59 @@ struct PositionContact {
   Real reach_squared;  ///< a sphere's (radius + thickness)², widened by 0.1% (see clearance)
 };
 
-/// Moves x out to the thickness of the collider if it is closer (positions only). Returns the
-/// distance moved (0 if none) and sets `normal` to the outward normal when it moved.
-inline double project_out(const Collider& c, Vec3& x, Vec3& normal) {
-  if (clear_of(c, x)) return 0.0;
+/// For a box or a mesh: whether a particle that moved from `from` (where it stood as the
+/// substep began) to x crossed the surface into the body, or through it, so that the nearest
+/// surface would push it out of the wrong side: a plate thinner than a step's move is crossed
+/// (cloth falling at 10 m/s onto a 1 cm plate in steps of 4 cm went through it). A box: where
+/// its path entered the solid box through a face other than the one nearest x, or passed
+/// through it. A mesh: where its path crosses a triangle (the one nearest `from`; on a closed
+/// mesh, from outside) and x's nearest surface faces the other way. Sets `normal` to the side it
+/// came in by (outward) and `gap` to x's signed distance from that face's plane moved out by the
+/// thickness (negative behind it). The path is taken relative to the body: for a moving body
+/// `from` is carried by the body's motion since the substep's start. A move shorter than a box's
+/// least half extent or a mesh's thickness is not followed (false): it ends where the nearest
+/// surface is the way out. False for spheres, capsules and planes, whose nearest side is the
+/// entry side (ColliderSet::substeps_for keeps steps short of a ball's middle).
+bool entered_elsewhere(const Collider& c, const Vec3& from, const Vec3& x, Vec3& normal,
+                       double& gap);
+
+/// Moves x out to the thickness of the collider if it is closer (positions only), by the side it
+/// came in by where it moved from `from` into a box or a mesh (entered_elsewhere), else by the
+/// nearest surface. Returns the distance moved (0 if none) and sets `normal` to the outward
+/// normal when it moved.
+inline double project_out(const Collider& c, const Vec3& from, Vec3& x, Vec3& normal) {
   Vec3 n;
-  const double gap = signed_distance(c, x, n) - c.thickness;
+  double gap = 0.0;
+  if (!entered_elsewhere(c, from, x, n, gap)) {
+    if (clear_of(c, x)) return 0.0;
+    gap = signed_distance(c, x, n) - c.thickness;
+  }
   if (gap >= 0.0) return 0.0;
   x -= gap * n;
   normal = n;
   return -gap;
 }
 
+/// Moves x out to the thickness of the collider if it is closer (positions only), by the
+/// nearest surface. Returns the distance moved (0 if none) and sets `normal` to the outward
+/// normal when it moved.
+inline double project_out(const Collider& c, Vec3& x, Vec3& normal) {
+  const Vec3 from = x;  // no path: entered_elsewhere finds none
+  return project_out(c, from, x, normal);
+}
+
 /// PositionContact's rule for any collider, moving or not (the path of the shapes it does not
 /// vectorise): x is the particle's position, `move` its move since the substep's start, both
-/// changed in place. Static friction holds the particle to the surface's own move over the
-/// substep, so a moving body carries what it touches. Returns true on contact.
+/// changed in place; it leaves a box by the face it came in by (entered_elsewhere). Static friction
+/// holds the particle to the surface's own move over the substep, so a moving body carries what it
+/// touches. Returns true on contact.
 inline bool position_contact(const Collider& c, Vec3& x, Vec3& move) {
-  if (clear_of(c, x)) return false;
   Vec3 n;
-  const double gap = signed_distance(c, x, n) - c.thickness;
+  double gap = 0.0;
+  if (!entered_elsewhere(c, x - move, x, n, gap)) {
+    if (clear_of(c, x)) return false;
+    gap = signed_distance(c, x, n) - c.thickness;
+  }
   if (gap >= 0.0) return false;
   const double out = -gap;
   x += out * n;

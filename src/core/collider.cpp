@@ -69,6 +69,87 @@ Collider make_collider(const ColliderDef& def) {
   return c;
 }
 
+namespace {
+
+// entered_elsewhere for a mesh, from `start` (the particle's start carried by the body's
+// motion) to x: the triangle its path crosses first, where x is not on the side it came from
+// by the nearest surface's reckoning. On a closed mesh only a path from outside counts.
+bool mesh_entered_elsewhere(const Collider& c, const Vec3& start, const Vec3& x, Vec3& normal,
+                            double& gap) {
+  if (!c.mesh) return false;
+  // A move within the contact's thickness ends where the nearest surface tells its side.
+  if ((x - start).lpNorm<1>() < c.thickness) return false;
+  const Mat3& R = c.pose.rotation;
+  const Vec3 a = R.transpose() * (start - c.pose.translation);
+  const Vec3 b = R.transpose() * (x - c.pose.translation);
+  const int32_t tri = c.mesh->first_crossing(a, b);
+  if (tri < 0) return false;
+  const Vec3& on = c.mesh->vertices()[c.mesh->triangles()[tri][0]];
+  Vec3 n = c.mesh->face_normals()[tri];
+  const bool outside = n.dot(a - on) > 0.0;
+  if (c.mesh->closed() && !outside) return false;  // it started inside: the nearest surface
+  if (!outside) n = -n;                            // an open mesh's side it came from
+  Vec3 nearest;
+  c.mesh->signed_distance(b, nearest);
+  if (nearest.dot(n) > 0.0) return false;  // the nearest surface sends it back that side too
+  normal = R * n;
+  gap = n.dot(b - on) - c.thickness;
+  return true;
+}
+
+// entered_elsewhere for a box, from `start` to x.
+bool box_entered_elsewhere(const Collider& c, const Vec3& start, const Vec3& x, Vec3& normal,
+                           double& gap) {
+  // A move shorter than the box's least half extent (|x| + |y| + |z| bounds its length) ends
+  // nearer the face it came in by than the one opposite: the nearest face is that one, or one
+  // beside it round an edge, never the far side. Most moves are that short.
+  if ((x - start).lpNorm<1>() < c.half_extents.minCoeff()) return false;
+  const Vec3 p = c.rotation.transpose() * (start - c.center);
+  const Vec3 q = c.rotation.transpose() * (x - c.center);
+  const Vec3& half = c.half_extents;
+  // The segment p–q clipped against the solid box's three slabs: it meets the box over
+  // [enter, leave], entering through the face of the slab it reaches last. (The solid, not the
+  // box widened by the thickness: a path that only grazes the thickness round an edge keeps
+  // the nearest surface's rounded way out.)
+  double enter = 0.0, leave = 1.0;
+  int axis = -1;
+  for (int k = 0; k < 3; ++k) {
+    const double d = q[k] - p[k];
+    if (d == 0.0) {
+      if (std::abs(p[k]) > half[k]) return false;  // beside the slab all the way
+      continue;
+    }
+    double t0 = (-half[k] - p[k]) / d, t1 = (half[k] - p[k]) / d;
+    if (t0 > t1) std::swap(t0, t1);
+    if (t0 > enter) enter = t0, axis = k;
+    leave = std::min(leave, t1);
+  }
+  // axis < 0: it started inside (or on) the box, whose nearest face is the way out.
+  if (axis < 0 || !(enter <= leave)) return false;
+  const double side = p[axis] > 0.0 ? 1.0 : -1.0;
+  // Inside and nearest the face it came in by (shape_distance's face): the same way out.
+  const Vec3 depth = q.cwiseAbs() - half;
+  int nearest = 0;
+  if (depth.maxCoeff(&nearest) <= 0.0 && nearest == axis && (q[axis] > 0.0) == (side > 0.0))
+    return false;
+  normal = side * c.rotation.col(axis);
+  gap = side * q[axis] - half[axis] - c.thickness;
+  return true;
+}
+
+}  // namespace
+
+bool entered_elsewhere(const Collider& c, const Vec3& from, const Vec3& x, Vec3& normal,
+                       double& gap) {
+  if (c.type != ColliderType::box && c.type != ColliderType::mesh) return false;
+  // The particle's start where the body's motion since the substep began has carried it (the
+  // inverse of the map surface_move undoes): its path relative to the body.
+  const Vec3 start =
+      c.moving ? Vec3(c.back_rotation.transpose() * (from - c.back_to) + c.back_from) : from;
+  return c.type == ColliderType::box ? box_entered_elsewhere(c, start, x, normal, gap)
+                                     : mesh_entered_elsewhere(c, start, x, normal, gap);
+}
+
 std::vector<Collider> make_colliders(const std::vector<ColliderDef>& defs) {
   std::vector<Collider> out;
   out.reserve(defs.size());

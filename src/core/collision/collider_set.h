@@ -50,11 +50,12 @@ class ColliderSet {
   /// out round a small fast body's sides one after another, cloth flung at a body that has just
   /// stopped jumps it, and a sheet falling fast onto a small still ball parts round it in one step
   /// (its particles each stopped at the tangent plane where they started) and lets it through. A
-  /// still box's or mesh's faces are half-spaces a particle cannot cross in one step either way;
-  /// they do not count. The fraction is measured (the curtain's ball, README "Motion"): an eighth
-  /// of the radius let the ball through, a tenth held; a sixteenth, for a margin. With
-  /// Counted::still_round only the still spheres and capsules count (`auto`, whose xpbd keeps the
-  /// cloth's triangles out of moving ones). At least 1, at most kMaxSubsteps.
+  /// still box or mesh does not count: its contacts take the side a particle came in by
+  /// (entered_elsewhere), so one step does not cross it, however thin it is. The fraction is
+  /// measured (the curtain's ball, README "Motion"): an eighth of the radius let the ball
+  /// through, a tenth held; a sixteenth, for a margin. With Counted::still_round only the still
+  /// spheres and capsules count (`auto`, whose xpbd keeps the cloth's triangles out of moving
+  /// ones). At least 1, at most kMaxSubsteps.
   enum class Counted { all, still_round };
   int substeps_for(const std::vector<Vec3>& x, const std::vector<Vec3>& v,
                    const std::vector<double>& inv_mass, double t0, double t1,

@@ -165,8 +165,10 @@ void TriangleShape::closest(const Vec3& p, double& best2, int32_t& tri, Vec3& po
   }
 }
 
-bool TriangleShape::crossed_by(const Vec3& a, const Vec3& b) const {
+int32_t TriangleShape::first_crossing(const Vec3& a, const Vec3& b) const {
   const Vec3 lo = a.cwiseMin(b), hi = a.cwiseMax(b);
+  int32_t first = -1;
+  double nearest = std::numeric_limits<double>::infinity();  // along a–b, of first's plane
   int32_t stack[64];
   int top = 0;
   if (!nodes_.empty()) stack[top++] = 0;
@@ -175,9 +177,14 @@ bool TriangleShape::crossed_by(const Vec3& a, const Vec3& b) const {
     if ((node.hi.array() < lo.array()).any() || (hi.array() < node.lo.array()).any()) continue;
     if (node.count > 0) {
       for (int32_t k = node.first; k < node.first + node.count; ++k) {
-        const Triangle& t = triangles_[order_[k]];
-        if (segment_crosses_triangle(a, b, vertices_[t[0]], vertices_[t[1]], vertices_[t[2]]))
-          return true;
+        const int32_t tri = order_[k];
+        const Triangle& t = triangles_[tri];
+        const Vec3 &u = vertices_[t[0]], &v = vertices_[t[1]], &w = vertices_[t[2]];
+        if (!segment_crosses_triangle(a, b, u, v, w)) continue;
+        // Where a–b meets the triangle's plane (a crossing one is not parallel to it).
+        const Vec3& n = face_normal_[tri];
+        const double along = n.dot(u - a) / n.dot(b - a);
+        if (first < 0 || along < nearest) first = tri, nearest = along;
       }
       continue;
     }
@@ -185,7 +192,7 @@ bool TriangleShape::crossed_by(const Vec3& a, const Vec3& b) const {
     stack[top++] = int32_t(&node - nodes_.data()) + 1;
     stack[top++] = node.first;
   }
-  return false;
+  return first;
 }
 
 Vec3 TriangleShape::pseudo_normal(int32_t tri, int feature) const {

@@ -32,7 +32,9 @@ class TriangleShape {
   double signed_distance(const Vec3& p, Vec3& normal) const;
 
   /// Whether segment a–b passes through a triangle (segment_crosses_triangle).
-  bool crossed_by(const Vec3& a, const Vec3& b) const;
+  bool crossed_by(const Vec3& a, const Vec3& b) const { return first_crossing(a, b) >= 0; }
+  /// The triangle segment a–b passes through nearest a, or −1 where it passes through none.
+  int32_t first_crossing(const Vec3& a, const Vec3& b) const;
 
   bool closed() const { return closed_; }
   const std::vector<Vec3>& vertices() const { return vertices_; }

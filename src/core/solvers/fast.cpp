@@ -253,7 +253,7 @@ class Fast final : public Solver {
           Vec3 nrm;
           if (!col.moving && clear_of(col, y_[i], reach)) continue;
           held_now_[i] |= signed_distance(col, y_[i], nrm) - col.thickness < reach;
-          const double moved = project_out(col, y_[i], nrm);
+          const double moved = project_out(col, s.x[i], y_[i], nrm);
           if (moved > 0.0) {
             contact_n_[i] = nrm;
             contact_dvn_[i] = moved / h_;

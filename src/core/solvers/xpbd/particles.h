@@ -269,15 +269,30 @@ class Particles {
     // Widened by 0.1% and a millimetre, far above the test's round-off in single precision.
     const double reach = 1.001 * (col.bound_radius + col.thickness) + 1e-3;
     const Real reach2 = bounded ? static_cast<Real>(reach * reach) : Real(0);
+    // A box's or mesh's contact follows the particle's path (entered_elsewhere), so a run is
+    // skipped only where every particle's path since the substep began stays clear of it: its end
+    // farther than the reach by more than its move (|x| + |y| + |z|, at least the move's length).
+    const bool paths = col.type == ColliderType::box || col.type == ColliderType::mesh;
     for (int32_t c0 = begin; c0 < end; c0 += kContactRun) {
       const int32_t c1 = std::min(end, c0 + kContactRun);
       if (bounded) {
         Real clearance = std::numeric_limits<Real>::max();
+        if (paths) {
 #pragma omp simd reduction(min : clearance)
-        for (int32_t c = c0; c < c1; ++c) {
-          const Real px = (bx[c] - cx) + mx[c], py = (by[c] - cy) + my[c],
-                     pz = (bz[c] - cz) + mz[c];
-          clearance = std::min(clearance, px * px + py * py + pz * pz - reach2);
+          for (int32_t c = c0; c < c1; ++c) {
+            const Real px = (bx[c] - cx) + mx[c], py = (by[c] - cy) + my[c],
+                       pz = (bz[c] - cz) + mz[c];
+            const Real moved = std::abs(mx[c]) + std::abs(my[c]) + std::abs(mz[c]);
+            clearance = std::min(clearance, std::sqrt(px * px + py * py + pz * pz) -
+                                                static_cast<Real>(reach) - moved);
+          }
+        } else {
+#pragma omp simd reduction(min : clearance)
+          for (int32_t c = c0; c < c1; ++c) {
+            const Real px = (bx[c] - cx) + mx[c], py = (by[c] - cy) + my[c],
+                       pz = (bz[c] - cz) + mz[c];
+            clearance = std::min(clearance, px * px + py * py + pz * pz - reach2);
+          }
         }
         if (clearance > 0) continue;
       }
@@ -294,8 +309,9 @@ class Particles {
     }
   }
 
-  // Whether every slot of [c0, c1) lies farther than the thickness beyond one of a box's faces'
-  // planes (its slabs: a lower bound of the distance, so the box's contacts would leave them as
+  // Whether every slot of [c0, c1) lies farther than the thickness and its move since the
+  // substep began beyond one of a box's faces' planes (its slabs: a lower bound of the
+  // distance, so the box's contacts, which follow the particle's path, would leave them as
   // they are). On a tablecloth most of the cloth hangs beside the table, within its bounding
   // sphere.
   bool beyond_box_slabs(const Collider& col, int32_t c0, int32_t c1) const {
@@ -320,7 +336,10 @@ class Particles {
       Real beyond = std::abs(r[0][0] * px + r[0][1] * py + r[0][2] * pz) - h[0];
       beyond = std::max(beyond, std::abs(r[1][0] * px + r[1][1] * py + r[1][2] * pz) - h[1]);
       beyond = std::max(beyond, std::abs(r[2][0] * px + r[2][1] * py + r[2][2] * pz) - h[2]);
-      clearance = std::min(clearance, beyond - reach);
+      // Beyond a face's plane by more than its move: its whole path since the substep began
+      // lay beyond it (its distance from the plane changes by at most the move's length).
+      const Real moved = std::abs(mx[c]) + std::abs(my[c]) + std::abs(mz[c]);
+      clearance = std::min(clearance, beyond - reach - moved);
     }
     return clearance > 0;
   }
