@@ -201,18 +201,24 @@ struct PositionContact {
 bool entered_elsewhere(const Collider& c, const Vec3& from, const Vec3& x, Vec3& normal,
                        double& gap);
 
-/// Moves x out to the thickness of the collider if it is closer (positions only), by the side it
-/// came in by where it moved from `from` into a box or a mesh (entered_elsewhere), else by the
-/// nearest surface. Returns the distance moved (0 if none) and sets `normal` to the outward
-/// normal when it moved.
+/// The way out for a particle at x that moved there from `from`: the side it came in by where it
+/// entered a box or a mesh elsewhere (entered_elsewhere), else the nearest surface. Sets the
+/// outward `normal` and the signed `gap` to the thickness (negative: that deep); false where x
+/// is surely clear of the collider (its bounding sphere).
+inline bool way_out(const Collider& c, const Vec3& from, const Vec3& x, Vec3& normal, double& gap) {
+  if (entered_elsewhere(c, from, x, normal, gap)) return true;
+  if (clear_of(c, x)) return false;
+  gap = signed_distance(c, x, normal) - c.thickness;
+  return true;
+}
+
+/// Moves x out to the thickness of the collider if it is closer (positions only), by way_out
+/// from `from`. Returns the distance moved (0 if none) and sets `normal` to the outward normal
+/// when it moved.
 inline double project_out(const Collider& c, const Vec3& from, Vec3& x, Vec3& normal) {
   Vec3 n;
   double gap = 0.0;
-  if (!entered_elsewhere(c, from, x, n, gap)) {
-    if (clear_of(c, x)) return 0.0;
-    gap = signed_distance(c, x, n) - c.thickness;
-  }
-  if (gap >= 0.0) return 0.0;
+  if (!way_out(c, from, x, n, gap) || gap >= 0.0) return 0.0;
   x -= gap * n;
   normal = n;
   return -gap;
@@ -228,17 +234,13 @@ inline double project_out(const Collider& c, Vec3& x, Vec3& normal) {
 
 /// PositionContact's rule for any collider, moving or not (the path of the shapes it does not
 /// vectorise): x is the particle's position, `move` its move since the substep's start, both
-/// changed in place; it leaves a box by the face it came in by (entered_elsewhere). Static friction
-/// holds the particle to the surface's own move over the substep, so a moving body carries what it
+/// changed in place; it leaves by way_out from where it began the substep. Static friction holds
+/// the particle to the surface's own move over the substep, so a moving body carries what it
 /// touches. Returns true on contact.
 inline bool position_contact(const Collider& c, Vec3& x, Vec3& move) {
   Vec3 n;
   double gap = 0.0;
-  if (!entered_elsewhere(c, x - move, x, n, gap)) {
-    if (clear_of(c, x)) return false;
-    gap = signed_distance(c, x, n) - c.thickness;
-  }
-  if (gap >= 0.0) return false;
+  if (!way_out(c, x - move, x, n, gap) || gap >= 0.0) return false;
   const double out = -gap;
   x += out * n;
   move += out * n;

@@ -165,10 +165,9 @@ void TriangleShape::closest(const Vec3& p, double& best2, int32_t& tri, Vec3& po
   }
 }
 
-int32_t TriangleShape::first_crossing(const Vec3& a, const Vec3& b) const {
+template <class F>
+void TriangleShape::each_crossing(const Vec3& a, const Vec3& b, F&& f) const {
   const Vec3 lo = a.cwiseMin(b), hi = a.cwiseMax(b);
-  int32_t first = -1;
-  double nearest = std::numeric_limits<double>::infinity();  // along a–b, of first's plane
   int32_t stack[64];
   int top = 0;
   if (!nodes_.empty()) stack[top++] = 0;
@@ -183,8 +182,7 @@ int32_t TriangleShape::first_crossing(const Vec3& a, const Vec3& b) const {
         if (!segment_crosses_triangle(a, b, u, v, w)) continue;
         // Where a–b meets the triangle's plane (a crossing one is not parallel to it).
         const Vec3& n = face_normal_[tri];
-        const double along = n.dot(u - a) / n.dot(b - a);
-        if (first < 0 || along < nearest) first = tri, nearest = along;
+        if (f(tri, n.dot(u - a) / n.dot(b - a))) return;
       }
       continue;
     }
@@ -192,6 +190,21 @@ int32_t TriangleShape::first_crossing(const Vec3& a, const Vec3& b) const {
     stack[top++] = int32_t(&node - nodes_.data()) + 1;
     stack[top++] = node.first;
   }
+}
+
+bool TriangleShape::crossed_by(const Vec3& a, const Vec3& b) const {
+  bool crossed = false;
+  each_crossing(a, b, [&](int32_t, double) { return crossed = true; });
+  return crossed;
+}
+
+int32_t TriangleShape::first_crossing(const Vec3& a, const Vec3& b) const {
+  int32_t first = -1;
+  double nearest = 0.0;
+  each_crossing(a, b, [&](int32_t tri, double along) {
+    if (first < 0 || along < nearest) first = tri, nearest = along;
+    return false;
+  });
   return first;
 }
 

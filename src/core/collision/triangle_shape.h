@@ -32,7 +32,7 @@ class TriangleShape {
   double signed_distance(const Vec3& p, Vec3& normal) const;
 
   /// Whether segment a–b passes through a triangle (segment_crosses_triangle).
-  bool crossed_by(const Vec3& a, const Vec3& b) const { return first_crossing(a, b) >= 0; }
+  bool crossed_by(const Vec3& a, const Vec3& b) const;
   /// The triangle segment a–b passes through nearest a, or −1 where it passes through none.
   int32_t first_crossing(const Vec3& a, const Vec3& b) const;
 
@@ -55,6 +55,10 @@ class TriangleShape {
     int32_t count = 0;  ///< leaf: triangle count; 0 for an inner node (left child is next)
   };
   int32_t build(int32_t begin, int32_t end, std::vector<Vec3>& centroids);
+  /// Calls f(triangle, along) for each triangle segment a–b passes through, `along` where the
+  /// segment meets its plane (0 at a, 1 at b), until f returns true.
+  template <class F>
+  void each_crossing(const Vec3& a, const Vec3& b, F&& f) const;
   void closest(const Vec3& p, double& best2, int32_t& tri, Vec3& point, int& feature) const;
   Vec3 pseudo_normal(int32_t tri, int feature) const;
 
